@@ -1,0 +1,38 @@
+"""modal: the engine of the modal-identification workflow.
+
+TCM (Eqs. 21-31), ERA (Eqs. 34-45) and CERA (Eqs. 46-52) of the thesis
+"Experimental Verification and Development of Structural Identification
+Techniques on a Grid", with beam simulation, preprocessing and indicators.
+"""
+
+from .cera import cera
+from .era import era
+from .hankel import hankel
+from .indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
+from .result import ModalResult
+from .signals import amplitude_spectrum, integrate_acceleration, lowpass_fft, split_record
+from .simulate import Record, add_noise, beam_impulse_response, impulse_response, with_noise
+from .structures import SimplySupportedBeam
+from .tcm import tcm
+
+__all__ = [
+    "ModalResult",
+    "Record",
+    "SimplySupportedBeam",
+    "add_noise",
+    "align_shapes",
+    "amplitude_spectrum",
+    "beam_impulse_response",
+    "cera",
+    "era",
+    "hankel",
+    "impulse_response",
+    "integrate_acceleration",
+    "lowpass_fft",
+    "mac",
+    "modal_amplitude_coherence",
+    "modal_phase_collinearity",
+    "split_record",
+    "tcm",
+    "with_noise",
+]

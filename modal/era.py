@@ -1,0 +1,103 @@
+"""The Eigensystem Realization Algorithm (thesis Ch. 4, Eqs. 34-45)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._checks import positive_float, positive_int, records
+from .hankel import hankel
+from .indicators import modal_amplitude_coherence, modal_phase_collinearity
+from .result import ModalResult, normalise_shapes, sort_modes
+
+#: |Im z| below this (relative to |z|) makes an eigenvalue a real pole.
+REAL_POLE_TOL = 1e-10
+
+
+def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
+    """Identify modes with the ERA.
+
+    Builds ``H(k-1)`` and ``H(k)`` of Eq. (34) from one Hankel with ``rows + 1``
+    block rows, takes the thin SVD ``H(0) = U S V^T`` (Eq. 35), keeps the
+    ``2 n_modes`` largest singular values ``P D Q^T`` (Sec. 4.4), realizes
+    ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` and ``H = E_p^T P D^{1/2}``
+    (Eqs. 41, 43), solves ``Phi psi = psi z`` (Eq. 42) and maps
+    ``s = ln z / dt`` (Eq. 44, j = 0). The natural frequency is ``|s|`` and
+    the damping ratio ``-Re s / |s|``; mode shapes are ``E_p^T P D^{1/2} psi``
+    (Eq. 45). Each complex-conjugate pair gives one mode; a real eigenvalue
+    gives one entry flagged ``real_pole`` (its damping is NaN).
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, l) or (m, n_samples, l)
+        Free or impulse response, one or ``m`` data sets.
+    dt : float
+        Sampling interval (s).
+    n_modes : int
+        ``n``; ``2 n`` singular values are kept.
+    rows, cols : int
+        Block rows ``r`` and block columns ``s`` of Eq. (34).
+    start : int
+        First sample used (``k - 1`` in Eq. 34).
+
+    Returns
+    -------
+    ModalResult
+        With ``mamc``, ``mpc``, all ``singular_values`` of ``H(0)`` and the
+        discrete eigenvalues ``z`` (one per mode).
+    """
+    y = records("y", y)
+    dt = positive_float("dt", dt)
+    n_modes = positive_int("n_modes", n_modes)
+    rows = positive_int("rows", rows)
+    cols = positive_int("cols", cols)
+    m, _, l = y.shape
+    order = 2 * n_modes
+    if order > min(rows * l, cols * m):
+        raise ValueError(
+            f"2 * n_modes = {order} exceeds the smaller dimension of the Hankel "
+            f"matrix ({rows * l} x {cols * m}): reduce n_modes or enlarge rows/cols"
+        )
+    h_ext = hankel(y, rows + 1, cols, start)
+    h0, h1 = h_ext[:-l], h_ext[l:]
+    # Thin SVD (Eq. 35) by LAPACK gesdd; numpy hands the C-ordered H(0) to
+    # LAPACK as its transpose without a copy, which scipy.linalg.svd does not.
+    u, sv, vt = np.linalg.svd(h0, full_matrices=False)
+    if sv[order - 1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
+        raise ValueError(
+            f"n_modes = {n_modes}: the Hankel matrix has fewer than {order} non-zero "
+            "singular values; the data cannot support that many modes"
+        )
+    p, d, qt = u[:, :order], sv[:order], vt[:order]
+    d_isqrt = 1 / np.sqrt(d)
+    phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]
+    z, psi = np.linalg.eig(phi)  # Eq. (42)
+    complex_shapes = (p[:l] * np.sqrt(d)[None, :]) @ psi  # Eq. (45): E_p^T P D^{1/2} psi
+    histories = np.linalg.solve(psi, np.sqrt(d)[:, None] * qt)  # modal amplitudes over the columns
+
+    # One entry per conjugate pair (Im z > 0) and per real eigenvalue.
+    real = np.abs(z.imag) <= REAL_POLE_TOL * np.abs(z)
+    keep = real | (z.imag > 0)
+    z, real = z[keep], real[keep]
+    complex_shapes, histories = complex_shapes[:, keep], histories[keep]
+    with np.errstate(divide="ignore"):
+        s = np.log(z.astype(complex)) / dt  # Eq. (44), j = 0
+    omega = np.abs(s)
+    damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, m), nan=0.0)
+    mpc = modal_phase_collinearity(complex_shapes)
+
+    omega, shapes, cols_ = sort_modes(
+        omega, normalise_shapes(complex_shapes), damping=damping, real_pole=real, mamc=mamc, mpc=mpc, z=z
+    )
+    return ModalResult(
+        omega=omega,
+        shapes=shapes,
+        method="era",
+        damping=cols_["damping"],
+        real_pole=cols_["real_pole"],
+        mamc=cols_["mamc"],
+        mpc=cols_["mpc"],
+        singular_values=sv,
+        eigenvalues=cols_["z"],
+    )

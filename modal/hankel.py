@@ -1,0 +1,39 @@
+"""The generalized Hankel matrix of Eq. (34)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._checks import positive_int
+
+
+def hankel(y: np.ndarray, rows: int, cols: int, start: int = 0) -> np.ndarray:
+    """Generalized Hankel matrix ``H(start)`` of Eq. (34).
+
+    Block ``(i, j)`` is ``Y(start + i + j)``, the ``l x m`` matrix whose column
+    ``k`` is the output of data set ``k`` at that sample, so ``H`` has shape
+    ``(l rows, m cols)``; its rows are ordered (block row, sensor) and its
+    columns (block column, data set).
+
+    Parameters
+    ----------
+    y : ndarray, shape (m, n_samples, l)
+        Validated records (see :func:`modal._checks.records`).
+    rows, cols : int
+        Block rows ``r`` and block columns ``s``.
+    start : int
+        First sample ``k``.
+    """
+    rows = positive_int("rows", rows)
+    cols = positive_int("cols", cols)
+    start = positive_int("start", start, minimum=0)
+    m, n_samples, l = y.shape
+    needed = start + rows + cols - 1
+    if needed > n_samples:
+        raise ValueError(
+            f"rows + cols - 1 = {rows + cols - 1} samples from start = {start} need "
+            f"{needed} samples, but the record has {n_samples}: reduce rows or cols"
+        )
+    idx = start + np.arange(rows)[:, None] + np.arange(cols)[None, :]
+    blocks = y[:, idx, :]  # (m, r, s, l)
+    return np.ascontiguousarray(blocks.transpose(1, 3, 2, 0)).reshape(rows * l, cols * m)

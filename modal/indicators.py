@@ -1,0 +1,97 @@
+"""Accuracy indicators: MAC, modal amplitude coherence, modal phase collinearity."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ._checks import finite_array
+
+
+def mac(a, b) -> np.ndarray:
+    """Modal assurance criterion between two shape sets.
+
+    ``MAC_ij = |a_i^H b_j|^2 / ((a_i^H a_i)(b_j^H b_j))``.
+
+    Parameters
+    ----------
+    a : array_like, shape (n_channels, p)
+    b : array_like, shape (n_channels, q)
+
+    Returns
+    -------
+    ndarray, shape (p, q), entries in [0, 1].
+    """
+    a = np.atleast_2d(np.asarray(a))
+    b = np.atleast_2d(np.asarray(b))
+    if a.ndim != 2 or b.ndim != 2 or a.shape[0] != b.shape[0]:
+        raise ValueError(f"a and b must be (n_channels, modes) with the same rows, got {a.shape} and {b.shape}")
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        raise ValueError("a and b must not contain NaN or inf")
+    cross = np.abs(a.conj().T @ b) ** 2
+    na = np.sum(np.abs(a) ** 2, axis=0)
+    nb = np.sum(np.abs(b) ** 2, axis=0)
+    denom = np.outer(na, nb)
+    return np.divide(cross, denom, out=np.zeros_like(cross), where=denom > 0)
+
+
+def align_shapes(shapes, reference) -> np.ndarray:
+    """Flip the sign of each column of ``shapes`` to agree with the same column
+    of ``reference`` and scale it to the reference's norm (for plotting
+    identified against exact shapes)."""
+    shapes = finite_array("shapes", shapes, ndim=(2,))
+    reference = finite_array("reference", reference, ndim=(2,))
+    k = min(shapes.shape[1], reference.shape[1])
+    if shapes.shape[0] != reference.shape[0]:
+        raise ValueError("shapes and reference must have the same number of channels")
+    s, ref = shapes[:, :k], reference[:, :k]
+    sign = np.sign(np.sum(s * ref, axis=0))
+    sign[sign == 0] = 1
+    scale = np.linalg.norm(ref, axis=0) / np.where(np.linalg.norm(s, axis=0) > 0, np.linalg.norm(s, axis=0), 1)
+    return s * sign * scale
+
+
+def modal_phase_collinearity(shapes) -> np.ndarray:
+    """Modal phase collinearity of complex mode shapes (Juang and Pappa).
+
+    With ``S = [[Re^T Re, Re^T Im], [Im^T Re, Im^T Im]]`` for each shape and its
+    eigenvalues ``l1 >= l2``, ``MPC = ((l1 - l2) / (l1 + l2))^2``: 1 for a shape
+    whose entries are in phase (a normal mode), 0 for uncorrelated phases.
+    """
+    shapes = np.atleast_2d(np.asarray(shapes, dtype=complex))
+    re, im = shapes.real, shapes.imag
+    sxx = np.sum(re * re, axis=0)
+    syy = np.sum(im * im, axis=0)
+    sxy = np.sum(re * im, axis=0)
+    trace = sxx + syy
+    gap = np.sqrt((sxx - syy) ** 2 + 4 * sxy**2)
+    return np.divide(gap, trace, out=np.zeros_like(trace), where=trace > 0) ** 2
+
+
+def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
+    """Modal amplitude coherence (Juang and Pappa) of identified modal amplitude
+    histories against ideal ones.
+
+    Parameters
+    ----------
+    histories : ndarray, shape (n_modes, s * m)
+        Rows of ``psi^{-1} D^{1/2} Q^T``: each mode's identified amplitude over
+        the Hankel columns (block column j, data set k at column ``j m + k``).
+    z : ndarray, shape (n_modes,)
+        Identified discrete-time eigenvalues.
+    n_sets : int
+        ``m``, data sets per block column.
+
+    Returns
+    -------
+    ndarray
+        ``|q . conj(q_ideal)| / (|q| |q_ideal|)`` with ``q_ideal[j m + k] =
+        b_k z^j``, ``b_k`` the identified initial amplitudes (block column 0).
+    """
+    n_modes, width = histories.shape
+    s = width // n_sets
+    b = histories[:, :n_sets]  # (n, m)
+    powers = z[:, None] ** np.arange(s)[None, :]  # (n, s)
+    ideal = (powers[:, :, None] * b[:, None, :]).reshape(n_modes, width)
+    num = np.abs(np.sum(histories * ideal.conj(), axis=1))
+    den = np.linalg.norm(histories, axis=1) * np.linalg.norm(ideal, axis=1)
+    return np.divide(num, den, out=np.zeros_like(num), where=den > 0)

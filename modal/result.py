@@ -1,0 +1,113 @@
+"""The identification result shared by TCM, ERA and CERA."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+
+def _nan(n: int) -> np.ndarray:
+    return np.full(n, np.nan)
+
+
+@dataclass(frozen=True)
+class ModalResult:
+    """Identified modes, sorted by natural frequency.
+
+    Attributes
+    ----------
+    omega : ndarray, shape (n_modes,)
+        Natural frequencies in rad/s (ERA: ``|s|`` with ``s = ln z / dt``, Eq. 44).
+    damping : ndarray
+        Modal damping ratios ``-Re s / |s|``; NaN where the method does not
+        identify damping (TCM, CERA) or for real poles.
+    shapes : ndarray, shape (n_channels, n_modes)
+        Real mode shapes at the sensors, each scaled to unit Euclidean norm with
+        its largest-magnitude entry positive.
+    real_pole : ndarray of bool
+        True where the identified eigenvalue is real (ERA) or does not map to
+        an oscillation (TCM/CERA eigenvalue outside the admissible range); such
+        entries are kept, flagged, never silently dropped.
+    mamc, mpc : ndarray
+        Modal amplitude coherence and modal phase collinearity (ERA), NaN otherwise.
+    singular_values : ndarray
+        All singular values of the Hankel matrix (ERA, CERA) for order selection,
+        or the eigenvalues of the correlation matrix ``A`` (TCM).
+    eigenvalues : ndarray
+        The raw eigenvalues the frequencies came from (``z`` for ERA, ``lambda``
+        for TCM/CERA).
+    method : str
+        ``"era"``, ``"tcm"`` or ``"cera"``.
+    """
+
+    omega: np.ndarray
+    shapes: np.ndarray
+    method: str
+    damping: np.ndarray | None = None
+    real_pole: np.ndarray | None = None
+    mamc: np.ndarray | None = None
+    mpc: np.ndarray | None = None
+    singular_values: np.ndarray = field(default_factory=lambda: np.empty(0))
+    eigenvalues: np.ndarray = field(default_factory=lambda: np.empty(0))
+
+    def __post_init__(self):
+        n = len(self.omega)
+        for name in ("damping", "mamc", "mpc"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, _nan(n))
+        if self.real_pole is None:
+            object.__setattr__(self, "real_pole", np.zeros(n, dtype=bool))
+
+    @property
+    def n_modes(self) -> int:
+        return len(self.omega)
+
+    @property
+    def freq_hz(self) -> np.ndarray:
+        """Natural frequencies in Hz."""
+        return self.omega / (2 * np.pi)
+
+    def to_frame(self) -> pd.DataFrame:
+        """One row per identified mode: mode, omega, freq_hz, damping, real_pole,
+        mamc, mpc, and the shape entries as ``phi_1 ... phi_l``."""
+        frame = pd.DataFrame(
+            {
+                "mode": np.arange(1, self.n_modes + 1),
+                "method": self.method,
+                "omega": self.omega,
+                "freq_hz": self.freq_hz,
+                "damping": self.damping,
+                "real_pole": self.real_pole,
+                "mamc": self.mamc,
+                "mpc": self.mpc,
+            }
+        )
+        for i, row in enumerate(self.shapes):
+            frame[f"phi_{i + 1}"] = row
+        return frame
+
+
+def normalise_shapes(shapes: np.ndarray) -> np.ndarray:
+    """Scale each column to unit Euclidean norm with its largest-magnitude entry
+    positive (complex columns are first rotated onto the real axis)."""
+    shapes = np.atleast_2d(np.asarray(shapes))
+    if np.iscomplexobj(shapes):
+        k = np.argmax(np.abs(shapes), axis=0)
+        pivot = shapes[k, np.arange(shapes.shape[1])]
+        rotation = np.where(np.abs(pivot) > 0, np.conj(pivot) / np.where(np.abs(pivot) > 0, np.abs(pivot), 1), 1)
+        shapes = (shapes * rotation).real
+    norms = np.linalg.norm(shapes, axis=0)
+    shapes = shapes / np.where(norms > 0, norms, 1)
+    k = np.argmax(np.abs(shapes), axis=0)
+    signs = np.sign(shapes[k, np.arange(shapes.shape[1])])
+    return shapes * np.where(signs == 0, 1, signs)
+
+
+def sort_modes(omega, shapes, **columns):
+    """Return ``omega``, ``shapes`` and the named per-mode columns in order of
+    increasing ``omega``."""
+    order = np.argsort(omega, kind="stable")
+    out = {k: (None if v is None else np.asarray(v)[order]) for k, v in columns.items()}
+    return np.asarray(omega)[order], np.asarray(shapes)[:, order], out
