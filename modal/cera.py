@@ -17,7 +17,9 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
     singular values (Eq. 49) and the ``n x n`` eigenproblem
     ``lambda w = D^{-1/2} P^T H_c(k+1) Q D^{-1/2} w`` (Eq. 52) solved; the
     frequency follows from Eq. (30) with ``T_o = dt``:
-    ``omega = acos(lambda) / dt``. Shapes are ``P D^{1/2} w`` (as Eq. 45).
+    ``omega = acos(lambda) / dt``. The symmetric part of the Eq. (52) matrix
+    is used (real eigenvalues, orthogonal eigenvectors, Sec. 5.1). Shapes are
+    ``P D^{1/2} w`` (as Eq. 45).
 
     Eq. (52) equals the TCM's eigenproblem only when the ``s`` columns span
     whole periods of every mode (so modal cross-correlations vanish) and the
@@ -38,8 +40,8 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
     Returns
     -------
     ModalResult
-        ``real_pole`` flags eigenvalues that are complex or outside [-1, 1]
-        (no oscillatory mode); ``eigenvalues`` holds ``lambda``.
+        ``real_pole`` flags eigenvalues outside [-1, 1] (no oscillatory
+        mode); ``eigenvalues`` holds ``lambda``.
     """
     y = records("y", y)
     dt = positive_float("dt", dt)
@@ -58,9 +60,12 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
     p, d, qt = p[:, :n_modes], sv[:n_modes], qt[:n_modes]
     d_isqrt = 1 / np.sqrt(d)
     mat = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]
-    lam, w = np.linalg.eig(mat)  # Eq. (52)
-    bad = (np.abs(lam.imag) > 1e-9 * np.abs(lam)) | (np.abs(lam.real) > 1)
-    omega = np.arccos(np.clip(lam.real, -1, 1)) / dt  # Eq. (30), T_o = dt
+    # Eq. (52)'s matrix is symmetric for light damping over whole periods; its
+    # symmetric part gives the real eigenvalues and orthogonal eigenvectors the
+    # thesis states for the CERA (Sec. 5.1).
+    lam, w = np.linalg.eigh((mat + mat.T) / 2)
+    bad = np.abs(lam) > 1
+    omega = np.arccos(np.clip(lam, -1, 1)) / dt  # Eq. (30), T_o = dt
     shapes = normalise_shapes((p * np.sqrt(d)[None, :]) @ w)
     omega, shapes, c = sort_modes(omega, shapes, real_pole=bad, lam=lam)
     return ModalResult(

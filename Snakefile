@@ -1,0 +1,24 @@
+# Regenerates the thesis's tables and figures. Run through
+# `bash workflow/regenerate.sh` (sets up .venv first) or `snakemake --cores all`.
+from snakemake.utils import min_version, validate
+
+min_version("8.0")
+
+
+configfile: "config/config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+
+import modal.config
+
+modal.config.check(config)
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/beam.smk"
+
+
+rule all:
+    input:
+        beam_outputs(),

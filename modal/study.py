@@ -1,0 +1,142 @@
+"""Run the thesis's simulation studies (Ch. 6) from plain configuration
+mappings: build the beam record, add noise per seed, pick the signals an
+interpretation names, identify, and collect tidy tables of identified modes.
+
+The Snakemake scripts only read files and call these functions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from .cera import cera
+from .era import era
+from .simulate import Record, beam_impulse_response, with_noise
+from .structures import SimplySupportedBeam
+from .tcm import tcm
+
+SIGNAL_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
+
+
+def beam_record(spec: Mapping, damping: float) -> Record:
+    """Noise-free impulse response of the beam described by ``spec``.
+
+    ``spec`` keys: ``length``, ``bending_stiffness``, ``mass_per_length``,
+    ``n_modes`` (participating), ``stations`` (the span is divided into that
+    many equal parts), ``impact`` and ``sensors`` (station indices, so
+    ``impact: 2`` with ``stations: 7`` is x = 2L/7), ``samples_per_period``
+    (dt = the shortest participating period / this) and ``n_samples``.
+    """
+    beam = SimplySupportedBeam(spec["length"], spec["bending_stiffness"], spec["mass_per_length"])
+    omega = beam.natural_frequencies(spec["n_modes"])
+    dt = 2 * np.pi / omega[-1] / spec["samples_per_period"]
+    station = beam.length / spec["stations"]
+    sensors = station * np.asarray(spec["sensors"], dtype=float)
+    return beam_impulse_response(beam, spec["n_modes"], station * spec["impact"], sensors, dt, spec["n_samples"], damping)
+
+
+def identify(record: Record, method: str, settings: Mapping, signals, channels=None):
+    """Identify modes of ``record`` with one method.
+
+    Parameters
+    ----------
+    record : Record
+    method : {"tcm", "era", "cera"}
+    settings : mapping
+        Keyword arguments of the method (``n_modes``, ``rows``, ``cols``,
+        ``lag``, ``duration``, ``start``).
+    signals : str or sequence of two str
+        Which outputs the method sees: for the TCM ``[A-signal, B-signal]``
+        (the thesis: ``[velocity, acceleration]``, Eq. 31); for ERA and CERA
+        one signal (the thesis: ``acceleration``).
+    channels : sequence of int, optional
+        Subset of sensors (0-based), e.g. the first n for spillover.
+    """
+    pick = slice(None) if channels is None else list(channels)
+    if method == "tcm":
+        low, high = (record.signal(SIGNAL_ORDER[s])[:, pick] for s in signals)
+        if settings.get("lag", 0):
+            return tcm(high, record.dt, **settings)
+        return tcm(high, record.dt, vel=low, **settings)
+    y = record.signal(SIGNAL_ORDER[signals])[:, pick]
+    if method == "era":
+        return era(y, record.dt, **settings)
+    if method == "cera":
+        return cera(y, record.dt, **settings)
+    raise ValueError(f"method must be one of tcm, era, cera, got {method!r}")
+
+
+def study_cases(study: Mapping) -> dict[str, dict]:
+    """Cases of a study as ``{name: {"damping": zeta, "noise": eta}}``: the
+    explicit ``cases`` mapping, plus one case per entry of ``noise_sweep``
+    (``{"damping": zeta, "noise": [eta, ...]}``) named ``eta_<eta>``."""
+    cases = {name: dict(case) for name, case in study.get("cases", {}).items()}
+    sweep = study.get("noise_sweep")
+    if sweep:
+        for eta in sweep["noise"]:
+            cases[f"eta_{eta:g}"] = {"damping": sweep["damping"], "noise": eta}
+    return cases
+
+
+def _frame(result, **labels) -> pd.DataFrame:
+    frame = result.to_frame().rename(columns={"damping": "damping_id"}).drop(columns="method")
+    for key, value in reversed(list(labels.items())):
+        frame.insert(0, key, value)
+    return frame
+
+
+def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds: Mapping) -> pd.DataFrame:
+    """Every identification of one study under one interpretation.
+
+    For each case, the noise-free record is simulated once; a noise-free case
+    is identified once (``seed = -1``), a noisy one once per seed
+    ``seeds["first"] ... seeds["first"] + seeds["count"] - 1``. ``n_identified``
+    (spillover, Sec. 6.3) repeats each method with n = 3, 4, ...: the TCM on
+    the first n sensors, ERA and CERA with ``n_modes = n``. ``cols_sweep``
+    repeats the CERA over Hankel widths s.
+
+    Returns
+    -------
+    DataFrame
+        One row per identified mode with labels ``case, damping, noise,
+        method, n, cols, seed`` and the :meth:`ModalResult.to_frame` columns
+        (``damping_id`` is the identified damping ratio), plus ``actual``, the
+        exact frequency of that mode number.
+    """
+    frames = []
+    for case, params in study_cases(study).items():
+        record = beam_record(beam_spec, params["damping"])
+        seed_list = [-1] if params["noise"] == 0 else range(seeds["first"], seeds["first"] + seeds["count"])
+        for seed in seed_list:
+            noisy = record if seed < 0 else with_noise(record, params["noise"], seed)
+            for method, settings in study["methods"].items():
+                for n, cols, kwargs, channels in _variants(study, method, settings, record.acceleration.shape[1]):
+                    result = identify(noisy, method, kwargs, interpretation[method], channels)
+                    frames.append(_frame(result, case=case, damping=params["damping"], noise=params["noise"],
+                                         method=method, n=n, cols=cols, seed=seed))
+    out = pd.concat(frames, ignore_index=True)
+    exact = beam_record(beam_spec, 0.0).omega
+    out["actual"] = [exact[m - 1] if m <= exact.size else np.nan for m in out["mode"]]
+    return out
+
+
+def _variants(study, method, settings, n_channels):
+    """(n, cols, keyword arguments, channels) for each run of one method."""
+    settings = dict(settings)
+    ns = study.get("n_identified") or [settings.get("n_modes", n_channels)]
+    for n in ns:
+        kwargs = dict(settings)
+        channels = None
+        if study.get("n_identified"):
+            if method == "tcm":
+                channels = list(range(n))
+            else:
+                kwargs["n_modes"] = n
+        widths = study.get("cols_sweep", []) if method == "cera" else []
+        for cols in [kwargs.get("cols")] + [c for c in widths if c != kwargs.get("cols")]:
+            if cols is not None:
+                kwargs = {**kwargs, "cols": cols}
+            yield n, (cols if cols is not None else -1), kwargs, channels

@@ -1,0 +1,210 @@
+"""Tables that put each published number beside the reproduced one."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import pandas as pd
+
+NOISE_FREE_SEED = -1
+
+
+def read_published(path) -> pd.DataFrame:
+    """``config/thesis_tables.csv`` with ``printed`` kept as text and an
+    empty ``column`` as ``""``."""
+    frame = pd.read_csv(path, dtype={"printed": str, "column": str, "flag": str})
+    return frame.fillna({"column": "", "flag": ""})
+
+
+def decimals(printed: str) -> int:
+    """Digits after the point in a printed number (``".79"`` -> 2)."""
+    return len(printed.split(".")[1]) if "." in printed else 0
+
+
+def aggregate(identified: pd.DataFrame, first_seed: int) -> pd.DataFrame:
+    """Statistics over seeds of each (method, n, cols, mode).
+
+    Real poles are left out of the mean and std and counted in
+    ``real_pole_frac``; ``seed0`` is the single realisation with the first
+    seed (or the noise-free run).
+    """
+    keys = ["method", "n", "cols", "mode"]
+    rows = []
+    for key, group in identified.groupby(keys, sort=True):
+        ok = group.loc[~group["real_pole"].astype(bool), "omega"]
+        first = group[group["seed"].isin([first_seed, NOISE_FREE_SEED])]
+        rows.append(
+            dict(
+                zip(keys, key),
+                reproduced=ok.mean() if len(ok) else np.nan,
+                std=ok.std(ddof=1) if len(ok) > 1 else 0.0,
+                n_seeds=group["seed"].nunique(),
+                real_pole_frac=1 - len(ok) / len(group),
+                seed0=first["omega"].iloc[0] if len(first) else np.nan,
+                seed0_real_pole=bool(first["real_pole"].iloc[0]) if len(first) else False,
+                actual=group["actual"].iloc[0],
+            )
+        )
+    return pd.DataFrame(rows)
+
+
+def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spec: Mapping,
+            methods: Mapping, first_seed: int) -> pd.DataFrame:
+    """Tidy comparison for one thesis table.
+
+    Parameters
+    ----------
+    published : DataFrame
+        Rows of ``thesis_tables.csv`` for this table.
+    identified : mapping
+        Interpretation name -> identified modes of the study (see
+        :func:`modal.study.run_study`).
+    spec : mapping
+        ``case`` (the study's case) for Tables 1-4, 7-9; spillover tables
+        (5, 6) take ``method`` and read ``n`` from the published column.
+    methods : mapping
+        The study's method settings (to select the configured Hankel width).
+    first_seed : int
+
+    Returns
+    -------
+    DataFrame
+        ``table, mode, method, interpretation, column, n, printed, published,
+        flag, reproduced, std, n_seeds, z, rel_dev, printed_match, seed0,
+        seed0_real_pole, real_pole_frac, actual``.
+    """
+    rows = []
+    for interp, frame in identified.items():
+        frame = frame[frame["case"] == spec["case"]] if "case" in spec else frame
+        stats = aggregate(frame, first_seed)
+        for _, pub in published.iterrows():
+            method = pub["method"]
+            base = dict(table=pub["table"], mode=pub["mode"], method=method, interpretation=interp,
+                        column=pub["column"], printed=pub["printed"], published=pub["value"], flag=pub["flag"])
+            if method == "actual":
+                exact = frame.loc[frame["mode"] == pub["mode"], "actual"]
+                rows.append({**base, "n": np.nan, "reproduced": exact.iloc[0] if len(exact) else np.nan,
+                             "std": 0.0, "n_seeds": 1, "seed0": exact.iloc[0] if len(exact) else np.nan})
+                continue
+            n = int(pub["column"].split("=")[1]) if pub["column"].startswith("n=") else None
+            sel = stats[(stats["method"] == method) & (stats["mode"] == pub["mode"])]
+            cols = methods.get(method, {}).get("cols")
+            if cols is not None:
+                sel = sel[sel["cols"] == cols]
+            if n is not None:
+                sel = sel[sel["n"] == n]
+            elif len(sel):
+                sel = sel[sel["n"] == sel["n"].max()]
+            if sel.empty:
+                rows.append({**base, "n": n, "reproduced": np.nan, "n_seeds": 0})
+                continue
+            rows.append({**base, **sel.iloc[0].drop(["method", "mode", "cols"]).to_dict()})
+    out = pd.DataFrame(rows)
+    out["z"] = np.where(out["std"] > 0, (out["published"] - out["reproduced"]) / out["std"].where(out["std"] > 0), np.nan)
+    out["rel_dev"] = (out["reproduced"] - out["published"]) / out["published"]
+    out["printed_match"] = [
+        bool(np.isfinite(r) and isinstance(p, str) and p[:1] not in ("*", "-") and round(r, decimals(p)) == float(p))
+        for r, p in zip(out["reproduced"], out["printed"])
+    ]
+    order = ["table", "mode", "method", "interpretation", "column", "n", "printed", "published", "flag",
+             "reproduced", "std", "n_seeds", "z", "rel_dev", "printed_match", "seed0", "seed0_real_pole",
+             "real_pole_frac", "actual"]
+    return out.reindex(columns=order)
+
+
+def interpretation_summary(table: pd.DataFrame) -> pd.DataFrame:
+    """Per interpretation: how many identified values match the printed digits,
+    the mean and largest ``|rel_dev|`` (identification rows only)."""
+    ident = table[~table["method"].isin(["actual", "est"]) & table["published"].notna()]
+    return ident.groupby("interpretation").agg(
+        matched=("printed_match", "sum"),
+        values=("printed_match", "size"),
+        mean_abs_dev=("rel_dev", lambda d: np.nanmean(np.abs(d))),
+        max_abs_dev=("rel_dev", lambda d: np.nanmax(np.abs(d))),
+    )
+
+
+def inclusion_holds(values_by_n: Mapping[int, Sequence[float]]) -> bool:
+    """Eq. (20): for consecutive orders n, n+1, lambda^(n+1)_r <= lambda^(n)_r
+    <= lambda^(n+1)_{r+1} (checked on frequencies, which are monotone in lambda)."""
+    ns = sorted(values_by_n)
+    for a, b in zip(ns, ns[1:]):
+        lo, hi = np.asarray(values_by_n[a], float), np.asarray(values_by_n[b], float)
+        if b != a + 1 or len(hi) < len(lo) + 1:
+            return False
+        if np.any(hi[:-1][: len(lo)] > lo) or np.any(lo > hi[1: len(lo) + 1]):
+            return False
+    return True
+
+
+METHOD_ORDER = {"tcm": 0, "era": 1, "cera": 2, "actual": 3, "est": 4}
+
+
+def _cell(row) -> str:
+    """The reproduced value to the published cell's decimals (one more where
+    the thesis printed a dash or star), with ± std over seeds and real-pole marks."""
+    if pd.isna(row["reproduced"]):
+        return ""
+    printed = row["printed"] if isinstance(row["printed"], str) else ""
+    digits = decimals(printed) if printed[:1] not in ("*", "-", "") else 2
+    text = f"{row['reproduced']:.{digits}f}"
+    if row["method"] == "actual":
+        return text
+    if row["n_seeds"] > 1:
+        text += f" ± {row['std']:.{digits}f}"
+    if row.get("seed0_real_pole"):
+        text += " (seed 0: *)"
+    if row.get("real_pole_frac", 0) and row["real_pole_frac"] > 0:
+        text += f" [* in {100 * row['real_pole_frac']:.0f} %]"
+    return text
+
+
+def to_markdown(table: pd.DataFrame, title: str, notes: Sequence[str] = ()) -> str:
+    """The thesis's layout: one row per mode r, for every published column the
+    printed value and the reproduced one per interpretation."""
+    table = table.copy()
+    table["label"] = table["method"] + np.where(table["column"] != "", " " + table["column"], "")
+    table = table.sort_values(["method", "column"], key=lambda c: c.map(METHOD_ORDER) if c.name == "method" else c,
+                              kind="stable")
+    labels = list(dict.fromkeys(table["label"]))
+    interps = list(dict.fromkeys(table["interpretation"]))
+    header = ["r"]
+    for label in labels:
+        header.append(f"{label} (thesis)")
+        if label.startswith(("actual", "est")):
+            header.append(f"{label} (exact)" if label.startswith("actual") else f"{label} (ours)")
+        else:
+            header += [f"{label} ({i})" for i in interps]
+    lines = [f"### {title}", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for mode in sorted(table["mode"].unique()):
+        cells = [str(mode)]
+        for label in labels:
+            rows = table[(table["mode"] == mode) & (table["label"] == label)]
+            cells.append(rows["printed"].iloc[0] if len(rows) and isinstance(rows["printed"].iloc[0], str) else "")
+            if label.startswith(("actual", "est")):
+                cells.append(_cell(rows.iloc[0]) if len(rows) else "")
+            else:
+                for interp in interps:
+                    r = rows[rows["interpretation"] == interp]
+                    cells.append(_cell(r.iloc[0]) if len(r) else "")
+        lines.append("| " + " | ".join(cells) + " |")
+    if notes:
+        lines += [""] + [f"- {note}" for note in notes]
+    return "\n".join(lines) + "\n"
+
+
+def cera_sensitivity(identified: Mapping[str, pd.DataFrame], first_seed: int, modes=(1, 2, 3)) -> pd.DataFrame:
+    """CERA frequency of modes 1-3 against the Hankel width s, per case and
+    interpretation: mean over seeds (real poles left out), relative error
+    against the exact frequency, and the fraction of real poles."""
+    frames = []
+    for interp, frame in identified.items():
+        rows = frame[(frame["method"] == "cera") & frame["mode"].isin(modes)]
+        stats = aggregate(rows.assign(method=rows["case"]), first_seed).rename(columns={"method": "case"})
+        stats.insert(0, "interpretation", interp)
+        frames.append(stats)
+    out = pd.concat(frames, ignore_index=True)
+    out["rel_err"] = out["reproduced"] / out["actual"] - 1
+    return out[["interpretation", "case", "cols", "mode", "reproduced", "std", "n_seeds", "real_pole_frac",
+                "actual", "rel_err"]].sort_values(["interpretation", "case", "mode", "cols"], ignore_index=True)
