@@ -17,8 +17,12 @@ modal.config.check(config)
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/beam.smk"
+include: "workflow/rules/grid.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
     input:
         beam_outputs(),
+        grid_outputs(),
+        report_outputs(),

@@ -1,0 +1,5 @@
+# Chapter 7: the grid experiment (virtual shaking test or measured records).
+
+
+def grid_outputs():
+    return []

@@ -1,0 +1,5 @@
+# Report notebooks (papermill) and the reproduction report.
+
+
+def report_outputs():
+    return []
