@@ -3,6 +3,12 @@ published values sit in the seed spread, whether the inclusion principle holds."
 
 from __future__ import annotations
 
+import base64
+import html
+import re
+from fractions import Fraction
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 
@@ -49,3 +55,337 @@ def table_notes(number: int, table: pd.DataFrame) -> list[str]:
                          f"{'holds' if inclusion_holds(by_n) else 'does not hold'} for the reproduced frequencies "
                          f"({'holds' if inclusion_holds(published) else 'does not hold'} for the published ones).")
     return notes
+
+
+# --------------------------------------------------------------------------- #
+# The reproduction summary: one verdict per thesis table
+# --------------------------------------------------------------------------- #
+
+#: Methods whose rows are reference values, not identifications.
+REFERENCE_METHODS = ("actual", "est")
+#: A published value is "within the noise spread" when |z| <= NOISE_Z, with
+#: z = (published - mean over seeds) / std over seeds ...
+NOISE_Z = 2.0
+#: ... and a noisy table is "within noise spread" when at least this fraction
+#: of its identified values are (the rest may be the thesis's unlucky draws).
+NOISE_FRACTION = 2 / 3
+#: A published real pole (*) in a noisy table is within the spread when our
+#: seeds give a real pole at least this often (the tail mass beyond 2 std).
+REAL_POLE_FRACTION = 0.05
+
+VERDICT_REPRODUCED = "reproduced to the printed digits"
+VERDICT_NOISE = "within noise spread"
+VERDICT_NOT = "not reproduced"
+
+VERDICT_DEFINITIONS = [
+    f"'{VERDICT_REPRODUCED}': under the best interpretation, every identified value of the table, rounded to "
+    "the digits the thesis printed, equals the printed value (a printed real pole '*' must be a real pole in our "
+    "single realisation).",
+    f"'{VERDICT_NOISE}': the table has noisy cases (several noise seeds) and at least "
+    f"{Fraction(NOISE_FRACTION).limit_denominator(10)} of its identified values are consistent with the seed spread: they match the printed "
+    f"digits or |z| <= {NOISE_Z:g}, z = (published - mean over seeds) / std over seeds (a printed '*' counts when "
+    f"at least {100 * REAL_POLE_FRACTION:g} % of our seeds give a real pole). If the thesis's value were one draw from "
+    f"our seed distribution, each value would pass with about 95 % probability, so this threshold rarely rejects "
+    f"a true reproduction while a systematic difference fails it.",
+    f"'{VERDICT_NOT}': neither; the reason names how many values match, the largest |relative deviation| and "
+    "where it occurs, values we could not identify and published real poles we do not get.",
+    "Identification rows only (TCM, ERA, CERA): the 'actual' and 'est' columns are references. The best "
+    "interpretation is the one with the best verdict, then the fewest values not identified, then the smallest "
+    "mean |relative deviation|.",
+]
+
+
+def _truthy(value) -> bool:
+    return value is True or (isinstance(value, (bool, np.bool_)) and bool(value)) or str(value) == "True"
+
+
+def _text(column: pd.Series) -> pd.Series:
+    """A text column with missing entries as "" (whatever dtype CSV reading gave it)."""
+    return column.astype(object).where(column.notna(), "").astype(str)
+
+
+def _pct(fraction: float) -> str:
+    """A relative deviation in percent, three significant digits."""
+    return f"{100 * fraction:.3g} %"
+
+
+def _where(row) -> str:
+    column = row["column"] if isinstance(row["column"], str) and row["column"] else ""
+    return f"{str(row['method']).upper()} r={int(row['mode'])}" + (f" {column}" if column else "")
+
+
+def _assess(cells: pd.DataFrame) -> dict:
+    """Verdict of one interpretation's identified cells of one table."""
+    star = cells["flag"] == "real_pole"
+    numeric = cells[~star & cells["published"].notna()]
+    stars = cells[star]
+    n = len(numeric) + len(stars)
+    noisy = bool((cells["n_seeds"].fillna(0) > 1).any())
+    match = numeric["printed_match"].map(_truthy)
+    star_match = stars["seed0_real_pole"].map(_truthy) if len(stars) else pd.Series(dtype=bool)
+    z_ok = (numeric["n_seeds"] > 1) & (numeric["std"] > 0) & (numeric["z"].abs() <= NOISE_Z)
+    star_ok = star_match | (stars["real_pole_frac"].fillna(0) >= REAL_POLE_FRACTION) if len(stars) else star_match
+    n_match = int(match.sum() + star_match.sum())
+    n_consistent = int((match | z_ok).sum() + star_ok.sum())
+    missing = numeric[numeric["reproduced"].isna()]
+    dev = numeric["rel_dev"].abs()
+    worst = numeric.loc[dev.idxmax()] if dev.notna().any() else None
+    if n and n_match == n:
+        verdict, rank = VERDICT_REPRODUCED, 0
+    elif n and noisy and n_consistent >= np.ceil(NOISE_FRACTION * n - 1e-9):
+        verdict, rank = VERDICT_NOISE, 1
+    else:
+        verdict, rank = VERDICT_NOT, 2
+    why = []
+    if rank == 2:
+        why.append(f"{n_match} of {n} values match the printed digits")
+        if noisy:
+            need = int(np.ceil(NOISE_FRACTION * n - 1e-9))
+            why.append(f"{n_consistent} of {n} are within {NOISE_Z:g} std of the seed mean or match (needs {need})")
+        if worst is not None:
+            why.append(f"largest absolute deviation {_pct(dev.max())} ({_where(worst)})")
+        if len(missing):
+            why.append(f"not identified (real poles in our {'seeds' if noisy else 'run'}): "
+                       + ", ".join(_where(r) for _, r in missing.iterrows()))
+        bad_stars = stars[~star_ok] if len(stars) else stars
+        if len(bad_stars):
+            why.append("thesis real pole (*) not reproduced at " + ", ".join(_where(r) for _, r in bad_stars.iterrows()))
+    return dict(n_compared=n, noisy=noisy, n_match=n_match, n_consistent=n_consistent if noisy else np.nan,
+                n_missing=len(missing), mean_abs_dev=float(dev.mean()) if dev.notna().any() else np.nan,
+                max_abs_dev=float(dev.max()) if dev.notna().any() else np.nan,
+                worst=_where(worst) if worst is not None else "", verdict=verdict, rank=rank, why="; ".join(why))
+
+
+def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str] | None = None) -> pd.DataFrame:
+    """One row per thesis table: how well it is reproduced.
+
+    Parameters
+    ----------
+    tables : dict
+        Table number -> the tidy comparison (``results/tables/table_NN.csv``,
+        as written by :func:`modal.tables.compare`). Needs the columns
+        ``mode, method, column, printed, published, flag, reproduced, std,
+        n_seeds, z, rel_dev, printed_match`` (``interpretation``,
+        ``seed0_real_pole`` and ``real_pole_frac`` when present).
+    titles : dict, optional
+        Table number -> title; otherwise ``frame.attrs["title"]`` if set
+        (see :func:`load_tables`).
+
+    Returns
+    -------
+    DataFrame
+        ``table, title, n_published`` (printed values and real-pole marks,
+        references included), ``n_compared`` (identified values),
+        ``interpretation`` (the best one), ``n_match`` (identified values
+        matching the printed digits), ``n_within_noise`` (matching or
+        ``|z| <= NOISE_Z``; NaN for noise-free tables), ``max_abs_rel_dev``
+        and ``worst`` (where it occurs), ``verdict``, ``why`` (empty unless
+        not reproduced), ``by_interpretation`` (every interpretation's
+        matches and verdict). See :data:`VERDICT_DEFINITIONS`.
+    """
+    titles = titles or {}
+    rows = []
+    for number in sorted(tables):
+        frame = tables[number]
+        if "interpretation" not in frame:
+            frame = frame.assign(interpretation="reproduced")
+        for col, default in (("flag", ""), ("seed0_real_pole", False), ("real_pole_frac", 0.0), ("column", "")):
+            if col not in frame:
+                frame = frame.assign(**{col: default})
+        frame = frame.assign(flag=_text(frame["flag"]), column=_text(frame["column"]))
+        cells = frame[(frame["flag"] == "real_pole") | frame["published"].notna()]
+        ident = cells[~cells["method"].isin(REFERENCE_METHODS)]
+        n_published = len(cells.drop_duplicates(["mode", "method", "column"]))
+        assessed = {interp: _assess(g) for interp, g in ident.groupby("interpretation", sort=True)}
+        title = titles.get(number, tables[number].attrs.get("title", ""))
+        if not assessed:
+            rows.append(dict(table=number, title=title, n_published=n_published, n_compared=0, interpretation="",
+                             n_match=0, n_within_noise=np.nan, max_abs_rel_dev=np.nan, worst="",
+                             verdict=VERDICT_NOT, why="no identified values to compare", by_interpretation=""))
+            continue
+        best = min(assessed, key=lambda i: (assessed[i]["rank"], assessed[i]["n_missing"],
+                                            np.inf if np.isnan(assessed[i]["mean_abs_dev"]) else assessed[i]["mean_abs_dev"]))
+        a = assessed[best]
+        by = "; ".join(f"{i}: {v['n_match']}/{v['n_compared']} match"
+                       + (f", {v['n_consistent']}/{v['n_compared']} within noise" if v["noisy"] else "")
+                       + f" ({v['verdict']})" for i, v in assessed.items())
+        rows.append(dict(table=number, title=title, n_published=n_published, n_compared=a["n_compared"],
+                         interpretation=best, n_match=a["n_match"], n_within_noise=a["n_consistent"],
+                         max_abs_rel_dev=a["max_abs_dev"], worst=a["worst"], verdict=a["verdict"], why=a["why"],
+                         by_interpretation=by))
+    columns = ["table", "title", "n_published", "n_compared", "interpretation", "n_match", "n_within_noise",
+               "max_abs_rel_dev", "worst", "verdict", "why", "by_interpretation"]
+    return pd.DataFrame(rows, columns=columns)
+
+
+def summary_markdown(frame: pd.DataFrame, definitions: bool = True) -> str:
+    """A pipe table of :func:`reproduction_summary`, verdicts spelled out,
+    followed by the verdict definitions."""
+    header = ["Table", "Title", "Published values", "Compared", "Best interpretation", "Match printed digits",
+              "Within noise spread", "Largest abs. deviation", "Verdict"]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for r in frame.itertuples():
+        within = "" if pd.isna(r.n_within_noise) else f"{int(r.n_within_noise)} of {r.n_compared}"
+        dev = "" if pd.isna(r.max_abs_rel_dev) else f"{_pct(r.max_abs_rel_dev)} ({r.worst})"
+        verdict = r.verdict + (f": {r.why}" if r.why else "")
+        cells = [str(r.table), str(r.title), str(r.n_published), str(r.n_compared), str(r.interpretation),
+                 f"{r.n_match} of {r.n_compared}", within, dev, verdict]
+        lines.append("| " + " | ".join(c.replace("|", "/") for c in cells) + " |")  # no pipes inside cells
+    counts = frame["verdict"].value_counts()
+    lines += ["", f"Of {len(frame)} tables: "
+              + ", ".join(f"{counts.get(v, 0)} {v}" for v in (VERDICT_REPRODUCED, VERDICT_NOISE, VERDICT_NOT)) + "."]
+    if definitions:
+        lines += [""] + [f"- {d}" for d in VERDICT_DEFINITIONS]
+    return "\n".join(lines) + "\n"
+
+
+def load_tables(directory, numbers=None) -> dict[int, pd.DataFrame]:
+    """The ``table_NN.csv`` files present in ``directory`` (all, or those in
+    ``numbers``), each with ``attrs["title"]`` from the heading of its
+    ``table_NN.md`` ("### Table N. title") when present."""
+    directory = Path(directory)
+    tables = {}
+    for path in sorted(directory.glob("table_[0-9][0-9].csv")):
+        number = int(path.stem.split("_")[1])
+        if numbers is not None and number not in numbers:
+            continue
+        frame = pd.read_csv(path, dtype={"printed": str, "column": str, "flag": str})
+        md = path.with_suffix(".md")
+        if md.exists():
+            first = md.read_text().splitlines()[0] if md.read_text() else ""
+            prefix = f"### Table {number}."
+            frame.attrs["title"] = first[len(prefix):].strip() if first.startswith(prefix) else ""
+        tables[number] = frame
+    return tables
+
+
+# --------------------------------------------------------------------------- #
+# A self-contained HTML report (no markdown package needed)
+# --------------------------------------------------------------------------- #
+
+def _inline(text: str) -> str:
+    out = html.escape(text, quote=False)
+    out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
+    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+
+
+def markdown_to_html(text: str) -> str:
+    """The small Markdown subset the workflow writes: ``#``-headings, pipe
+    tables, ``- `` lists and paragraphs. Everything is HTML-escaped; a single
+    ``*`` is literal (the thesis's real-pole mark); `code` and **bold** spans
+    are kept."""
+    out, lines, i = [], text.splitlines(), 0
+
+    def cells(line):
+        return [c.strip() for c in line.strip().strip("|").split("|")]
+
+    while i < len(lines):
+        line = lines[i]
+        if not line.strip():
+            i += 1
+        elif line.lstrip().startswith("#"):
+            level = min(len(line) - len(line.lstrip("#")), 6)
+            out.append(f"<h{level}>{_inline(line.lstrip('#').strip())}</h{level}>")
+            i += 1
+        elif line.lstrip().startswith("|"):
+            block = []
+            while i < len(lines) and lines[i].lstrip().startswith("|"):
+                block.append(lines[i])
+                i += 1
+            rule = len(block) > 1 and all(set(c) <= set("-: ") and c for c in cells(block[1]))
+            head, body = (block[0], block[2:]) if rule else (None, block)
+            html_rows = []
+            if head is not None:
+                html_rows.append("<thead><tr>" + "".join(f"<th>{_inline(c)}</th>" for c in cells(head)) + "</tr></thead>")
+            html_rows.append("<tbody>" + "".join(
+                "<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in cells(row)) + "</tr>" for row in body) + "</tbody>")
+            out.append("<table>" + "".join(html_rows) + "</table>")
+        elif line.lstrip().startswith(("- ", "* ")):
+            items = []
+            while i < len(lines) and lines[i].lstrip().startswith(("- ", "* ")):
+                items.append(lines[i].lstrip()[2:].strip())
+                i += 1
+            out.append("<ul>" + "".join(f"<li>{_inline(t)}</li>" for t in items) + "</ul>")
+        else:
+            para = []
+            while i < len(lines) and lines[i].strip() and not lines[i].lstrip().startswith(("#", "|", "- ", "* ")):
+                para.append(lines[i].strip())
+                i += 1
+            out.append(f"<p>{_inline(' '.join(para))}</p>")
+    return "\n".join(out)
+
+
+_CSS = """
+body { font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em; color: #222; }
+table { border-collapse: collapse; margin: 0.6em 0; font-size: 0.85em; }
+th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: right; vertical-align: top; }
+th { background: #eee; }
+#summary td:nth-child(2), #summary td:nth-child(5), #summary td:last-child { text-align: left; }
+#summary th { text-align: left; }
+figure { margin: 1.5em 0; }
+figure img { max-width: 100%; border: 1px solid #ddd; }
+figcaption { font-style: italic; margin-top: 0.3em; }
+.missing { color: #a33; }
+section.table { margin-bottom: 2em; }
+"""
+
+
+def report_html(summary: pd.DataFrame, tables: dict[int, str | None], figures: dict[int, bytes | None],
+                captions: dict[int, str], extras: list[tuple[str, str | None, bytes | None, str]] = (),
+                title: str = "Reproduction report", intro: str = "") -> str:
+    """One self-contained HTML page: the summary, every table, every figure.
+
+    Parameters
+    ----------
+    summary : DataFrame
+        :func:`reproduction_summary`.
+    tables : dict
+        Table number -> its Markdown (``table_NN.md``), or None when not
+        produced (listed as missing).
+    figures : dict
+        Figure number -> PNG bytes, or None when not produced (listed as missing).
+    captions : dict
+        Figure number -> the thesis's caption; shown as "Figure N. caption".
+    extras : list of (heading, markdown or None, png or None, caption)
+        Results beyond the thesis (e.g. the CERA sensitivity to s).
+    """
+    def missing_list(kind, numbers):
+        return (f'<p class="missing">{kind} not produced yet: ' + ", ".join(str(n) for n in numbers) + "</p>"
+                if numbers else "")
+
+    parts = [f"<h1>{html.escape(title)}</h1>"]
+    if intro:
+        parts.append(markdown_to_html(intro))
+    parts.append('<nav><a href="#summary">Summary</a> · <a href="#tables">Tables</a> · '
+                 '<a href="#figures">Figures</a>' + (' · <a href="#extras">Beyond the thesis</a>' if extras else "")
+                 + "</nav>")
+    parts.append('<section id="summary"><h2>Summary</h2>' + markdown_to_html(summary_markdown(summary))
+                 + missing_list("Tables", [n for n, md in sorted(tables.items()) if md is None]) + "</section>")
+    parts.append('<section id="tables"><h2>Tables</h2>')
+    for number, md in sorted(tables.items()):
+        if md is not None:
+            parts.append(f'<section class="table" id="table-{number}">' + markdown_to_html(md) + "</section>")
+    parts.append(missing_list("Tables", [n for n, md in sorted(tables.items()) if md is None]) + "</section>")
+    parts.append('<section id="figures"><h2>Figures</h2>')
+
+    def figure(png, caption, anchor):
+        data = base64.b64encode(png).decode("ascii")
+        return (f'<figure id="{anchor}"><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
+                f"<figcaption>{html.escape(caption)}</figcaption></figure>")
+
+    for number, png in sorted(figures.items()):
+        if png is not None:
+            parts.append(figure(png, f"Figure {number}. {captions.get(number, '')}".strip(), f"figure-{number}"))
+    parts.append(missing_list("Figures", [n for n, png in sorted(figures.items()) if png is None]) + "</section>")
+    if extras:
+        parts.append('<section id="extras"><h2>Beyond the thesis</h2>')
+        for k, (heading, md, png, caption) in enumerate(extras):
+            parts.append(f"<h3>{html.escape(heading)}</h3>")
+            if md:
+                parts.append(markdown_to_html(md))
+            if png is not None:
+                parts.append(figure(png, caption, f"extra-{k + 1}"))
+        parts.append("</section>")
+    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+            f"<title>{html.escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
+            + "\n".join(parts) + "\n</body>\n</html>\n")

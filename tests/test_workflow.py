@@ -3,10 +3,8 @@ determinism, failure hygiene and lint."""
 
 import copy
 import re
-import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -15,42 +13,20 @@ from snakemake.utils import validate
 
 import modal.config
 
-ROOT = Path(__file__).resolve().parents[1]
+from conftest import ROOT, SMALL_CONFIG as SMALL, run_snakemake as snakemake
+
 SCHEMA = str(ROOT / "workflow/schemas/config.schema.yaml")
-SMALL = {
-    "seeds": {"first": 0, "count": 3},
-    "studies": {
-        "noise": {"noise_sweep": {"damping": 0.01, "noise": [0.03, 0.034]}},
-        "cera": {"cols_sweep": [360, 500]},
-    },
-}
 
 
 def base_config():
     return yaml.safe_load((ROOT / "config/config.yaml").read_text())
 
 
-def snakemake(workdir, *args, check=True):
-    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=workdir,
-                          capture_output=True, text=True, timeout=900)
-    if check and proc.returncode != 0:
-        raise AssertionError(f"snakemake failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
-    return proc
-
-
 @pytest.fixture(scope="module")
-def workdir(tmp_path_factory):
-    """A copy of the workflow in a temporary directory with a small config."""
-    tmp = tmp_path_factory.mktemp("wf")
-    for item in ("Snakefile", "workflow", "config", "modal", "notebooks"):
-        src = ROOT / item
-        if src.is_dir():
-            shutil.copytree(src, tmp / item, ignore=shutil.ignore_patterns("__pycache__"))
-        elif src.exists():
-            shutil.copy(src, tmp / item)
-    (tmp / "small.yaml").write_text(yaml.safe_dump(SMALL))
-    snakemake(tmp, "--configfile", "small.yaml")
-    return tmp
+def workdir(small_workflow):
+    """A copy of the workflow in a temporary directory with a small config
+    (conftest.small_workflow, shared with the notebook tests)."""
+    return small_workflow
 
 
 def test_config_is_valid():
@@ -186,8 +162,10 @@ def test_failed_job_leaves_no_table_and_rerun_recovers(workdir):
     try:
         ident.write_text("not,a\nvalid,identified,table\n")
         table.unlink()
-        proc = snakemake(workdir, "--configfile", "small.yaml", "results/tables/table_01.csv", check=False)
+        # the target goes before --configfile, which takes several values
+        proc = snakemake(workdir, "results/tables/table_01.csv", "--configfile", "small.yaml", check=False)
         assert proc.returncode != 0
+        assert "Error in rule table" in proc.stdout + proc.stderr
         assert not table.exists()
     finally:
         ident.write_bytes(good)

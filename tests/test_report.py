@@ -1,0 +1,197 @@
+"""modal.report's reproduction summary, its Markdown, the Markdown -> HTML
+converter and the self-contained HTML report, on small hand-made frames."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import modal.report as report
+from modal.report import VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
+
+PNG = b"\x89PNG\r\n\x1a\n" + b"\x00" * 16
+
+
+def row(mode, method, published, reproduced, interpretation="named", std=0.0, n_seeds=1, column="", flag="",
+        printed=None, seed0_real_pole=False, real_pole_frac=0.0):
+    """One tidy row as modal.tables.compare writes it (printed_match, z, rel_dev derived the same way)."""
+    if printed is None:
+        printed = "-----" if flag == "absent" else "*" if flag == "real_pole" else f"{published:.4f}"
+    digits = len(printed.split(".")[1]) if "." in printed else 0
+    match = bool(np.isfinite(reproduced) and printed[:1] not in "*-" and round(reproduced, digits) == float(printed))
+    z = (published - reproduced) / std if std > 0 else np.nan
+    return dict(table=1, mode=mode, method=method, interpretation=interpretation, column=column, printed=printed,
+                published=published, flag=flag, reproduced=reproduced, std=std, n_seeds=n_seeds, z=z,
+                rel_dev=(reproduced - published) / published, printed_match=match, seed0_real_pole=seed0_real_pole,
+                real_pole_frac=real_pole_frac)
+
+
+def frame(*rows):
+    return pd.DataFrame(list(rows))
+
+
+EXACT = [2.1623, 8.6493, 19.461]
+
+
+def all_match(interpretation="named"):
+    rows = [row(r + 1, "actual", w, w, interpretation) for r, w in enumerate(EXACT)]
+    rows += [row(r + 1, m, w, w * (1 + 1e-7), interpretation) for m in ("tcm", "era") for r, w in enumerate(EXACT)]
+    return rows
+
+
+def test_all_values_match_is_reproduced():
+    s = report.reproduction_summary({1: frame(*all_match())}, titles={1: "Demo"})
+    assert list(s["table"]) == [1]
+    r = s.iloc[0]
+    assert r["verdict"] == VERDICT_REPRODUCED
+    assert r["title"] == "Demo"
+    assert (r["n_published"], r["n_compared"], r["n_match"]) == (9, 6, 6)
+    assert r["why"] == ""
+    assert r["max_abs_rel_dev"] < 1e-6
+    assert np.isnan(r["n_within_noise"])  # noise-free table
+
+
+def test_large_deviation_is_not_reproduced_and_says_where():
+    rows = all_match()
+    rows[-1] = row(3, "era", 19.461, 25.0)  # ERA mode 3 off by 28 %
+    s = report.reproduction_summary({6: frame(*rows)})
+    r = s.iloc[0]
+    assert r["verdict"] == VERDICT_NOT
+    assert r["n_match"] == 5
+    assert r["max_abs_rel_dev"] == pytest.approx((25.0 - 19.461) / 19.461)
+    assert r["worst"] == "ERA r=3"
+    assert "5 of 6 values match" in r["why"] and "28.5 %" in r["why"] and "ERA r=3" in r["why"]
+
+
+def test_reference_columns_do_not_count():
+    rows = all_match()
+    rows[0] = row(1, "actual", 2.1623, 9.0)  # a wrong reference value
+    rows.append(row(1, "est", 0.83, 5.0))
+    r = report.reproduction_summary({1: frame(*rows)}).iloc[0]
+    assert r["verdict"] == VERDICT_REPRODUCED
+    assert r["n_compared"] == 6 and r["n_published"] == 10
+
+
+def test_best_interpretation_is_the_one_that_matches():
+    lower = [row(r + 1, m, w, w * 1.01, "lower") for m in ("tcm", "era") for r, w in enumerate(EXACT)]
+    r = report.reproduction_summary({1: frame(*all_match("named"), *lower)}).iloc[0]
+    assert r["interpretation"] == "named" and r["verdict"] == VERDICT_REPRODUCED
+    assert "lower: 0/6 match (not reproduced)" in r["by_interpretation"]
+    assert "named: 6/6 match (reproduced to the printed digits)" in r["by_interpretation"]
+
+
+def test_smaller_deviation_wins_between_unreproduced_interpretations():
+    far = [row(r + 1, "tcm", w, w * 1.5, "named") for r, w in enumerate(EXACT)]
+    near = [row(r + 1, "tcm", w, w * 1.01, "lower") for r, w in enumerate(EXACT)]
+    r = report.reproduction_summary({5: frame(*far, *near)}).iloc[0]
+    assert r["interpretation"] == "lower" and r["verdict"] == VERDICT_NOT
+    assert r["max_abs_rel_dev"] == pytest.approx(0.01)
+
+
+def noisy(z_values, interpretation="lower"):
+    """One noisy table: published values at the given z from a seed mean with std 0.1."""
+    return [row(k + 1, "tcm", 10.0 + k, 10.0 + k - z * 0.1, interpretation, std=0.1, n_seeds=50)
+            for k, z in enumerate(z_values)]
+
+
+def test_noisy_table_within_noise_spread():
+    r = report.reproduction_summary({3: frame(*noisy([0.5, -1.5, 1.9, 3.0, -0.1, 1.0]))}).iloc[0]
+    assert r["verdict"] == VERDICT_NOISE  # 5 of 6 within 2 std >= 2/3
+    assert r["n_within_noise"] == 5 and r["n_match"] == 0
+    assert r["why"] == ""
+
+
+def test_noisy_table_with_too_few_values_in_the_spread():
+    r = report.reproduction_summary({3: frame(*noisy([0.5, -2.5, 3.0, 1.9, -5.0, 1.0]))}).iloc[0]
+    assert r["verdict"] == VERDICT_NOT  # 3 of 6 within 2 std < 2/3
+    assert r["n_within_noise"] == 3
+    assert "3 of 6 are within 2 std" in r["why"] and "needs 4" in r["why"]
+
+
+def test_noise_free_table_is_never_within_noise_spread():
+    rows = [row(r + 1, "tcm", w, w * 1.001) for r, w in enumerate(EXACT)]
+    assert report.reproduction_summary({1: frame(*rows)}).iloc[0]["verdict"] == VERDICT_NOT
+
+
+def test_value_not_identified_is_named():
+    rows = noisy([0.1, 0.2, 0.3])
+    rows[0] = {**rows[0], "reproduced": np.nan, "z": np.nan, "rel_dev": np.nan, "real_pole_frac": 1.0}
+    r = report.reproduction_summary({3: frame(*rows)}).iloc[0]
+    assert r["verdict"] == VERDICT_NOISE  # 2 of 3 within the spread
+    rows[1] = {**rows[1], "reproduced": np.nan, "z": np.nan, "rel_dev": np.nan, "real_pole_frac": 1.0}
+    r = report.reproduction_summary({3: frame(*rows)}).iloc[0]
+    assert r["verdict"] == VERDICT_NOT
+    assert "not identified" in r["why"] and "TCM r=1" in r["why"] and "TCM r=2" in r["why"]
+
+
+def test_printed_real_pole_must_be_a_real_pole():
+    base = [row(2, "era", 8.87, 8.87, column="n=4"), row(3, "era", 53.93, 53.93, column="n=4"),
+            row(5, "era", np.nan, np.nan, column="n=4", flag="absent")]
+    star_ok = row(1, "era", np.nan, 0.5, column="n=4", flag="real_pole", seed0_real_pole=True)
+    star_bad = row(1, "era", np.nan, 5.84, column="n=4", flag="real_pole", seed0_real_pole=False)
+    ok = report.reproduction_summary({6: frame(*base, star_ok)}).iloc[0]
+    assert ok["verdict"] == VERDICT_REPRODUCED and ok["n_compared"] == 3  # the dash cell is not a value
+    assert ok["n_published"] == 3
+    bad = report.reproduction_summary({6: frame(*base, star_bad)}).iloc[0]
+    assert bad["verdict"] == VERDICT_NOT
+    assert "real pole (*) not reproduced at ERA r=1 n=4" in bad["why"]
+
+
+def test_frames_as_read_from_csv(tmp_path):
+    """seed0_real_pole comes back from CSV as text/objects; title from the .md heading."""
+    frame(*all_match()).to_csv(tmp_path / "table_01.csv", index=False)
+    (tmp_path / "table_01.md").write_text("### Table 1. Identified frequencies\n\n| r |\n|---|\n| 1 |\n")
+    rows = all_match()
+    rows[3] = row(1, "tcm", 2.1623, 3.0)
+    frame(*rows).to_csv(tmp_path / "table_02.csv", index=False)
+    tables = report.load_tables(tmp_path)
+    assert sorted(tables) == [1, 2]
+    assert tables[1].attrs["title"] == "Identified frequencies"
+    assert tables[1]["printed"].iloc[0] == "2.1623"
+    s = report.reproduction_summary(tables)
+    assert list(s["verdict"]) == [VERDICT_REPRODUCED, VERDICT_NOT]
+    assert list(s["title"]) == ["Identified frequencies", ""]
+    assert sorted(report.load_tables(tmp_path, numbers={2})) == [2]
+
+
+def test_summary_markdown_is_a_well_formed_pipe_table():
+    rows = all_match()
+    rows[-1] = row(3, "era", 19.461, 25.0)
+    tables = {1: frame(*all_match()), 2: frame(*rows), 3: frame(*noisy([0.5, -1.5, 1.9]))}
+    text = report.summary_markdown(report.reproduction_summary(tables, titles={1: "a | b"}))
+    table = [line for line in text.splitlines() if line.startswith("|")]
+    assert len(table) == 2 + 3
+    assert len({line.count("|") for line in table}) == 1  # no stray pipes inside cells
+    assert f"| {VERDICT_REPRODUCED} |" in table[2]
+    assert f"| {VERDICT_NOT}: 5 of 6 values match" in table[3]
+    assert f"| {VERDICT_NOISE} |" in table[4]
+    assert "Of 3 tables: 1 reproduced to the printed digits, 1 within noise spread, 1 not reproduced." in text
+    for definition in report.VERDICT_DEFINITIONS:
+        assert definition in text
+    assert "2/3" in text
+    assert report.VERDICT_DEFINITIONS[0] not in report.summary_markdown(
+        report.reproduction_summary(tables), definitions=False)
+
+
+def test_markdown_to_html():
+    html = report.markdown_to_html("### Table 6. ERA <spillover>\n\n| r | era (thesis) |\n|---|---|\n"
+                                   "| 1 | * |\n| 2 | `8.87` |\n\n- named: a & b\n- lower: c\n\nSome **bold** text\ncontinued.\n")
+    assert "<h3>Table 6. ERA &lt;spillover&gt;</h3>" in html
+    assert "<thead><tr><th>r</th><th>era (thesis)</th></tr></thead>" in html
+    assert "<td>*</td>" in html and "<td><code>8.87</code></td>" in html
+    assert "<ul><li>named: a &amp; b</li><li>lower: c</li></ul>" in html
+    assert "<p>Some <strong>bold</strong> text continued.</p>" in html
+    assert "---" not in html
+
+
+def test_report_html_is_self_contained():
+    summary = report.reproduction_summary({1: frame(*all_match())}, titles={1: "Demo"})
+    html = report.report_html(summary, {1: "### Table 1. Demo\n\n| r | x |\n|---|---|\n| 1 | 2 |\n", 2: None},
+                              {1: PNG, 2: None}, {1: "Mode shapes <TCM>", 2: "Noise"},
+                              extras=[("Extra", "Some *words*", PNG, "Not in the thesis")], intro="Hello.")
+    assert html.startswith("<!DOCTYPE html>") and html.rstrip().endswith("</html>")
+    assert html.count("data:image/png;base64,") == 2
+    assert "<figcaption>Figure 1. Mode shapes &lt;TCM&gt;</figcaption>" in html
+    assert "Figures not produced yet: 2" in html and "Tables not produced yet: 2" in html
+    assert html.index('id="summary"') < html.index('id="tables"') < html.index('id="figures"')
+    assert VERDICT_REPRODUCED in html and "<p>Hello.</p>" in html
+    assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere

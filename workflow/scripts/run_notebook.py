@@ -1,0 +1,34 @@
+"""Execute one report notebook with papermill -> results/notebooks/{name}.ipynb.
+
+papermill writes the executed notebook to the rule's log cell by cell, so a
+failing notebook keeps its traceback there; only a complete run is copied to
+the output. The kernel is `python3` resolved to this interpreter (the venv's
+ipykernel); anything else is refused rather than silently used.
+"""
+import os
+import shutil
+import sys
+from pathlib import Path
+
+import papermill as pm
+from jupyter_client.kernelspec import KernelSpecManager
+
+sys.stderr = sys.stdout = open(snakemake.log.text, "w")
+
+spec = KernelSpecManager().get_kernel_spec("python3")
+exe = spec.argv[0]
+# jupyter_client replaces a bare "python"/"python3"/"python3.X" by sys.executable
+same = exe in {"python", f"python{sys.version_info[0]}", "python%i.%i" % sys.version_info[:2]} or (
+    Path(exe).is_absolute() and Path(exe).resolve() == Path(sys.executable).resolve())
+if not same:
+    raise RuntimeError(f"kernelspec python3 at {spec.resource_dir} runs {exe!r}, not this interpreter "
+                       f"{sys.executable}: install ipykernel in this environment or remove that kernelspec")
+print(f"kernel python3: {spec.resource_dir} -> {sys.executable}")
+
+declared = pm.inspect_notebook(snakemake.input.notebook)
+parameters = {k: v for k, v in snakemake.params.parameters.items() if k in declared}
+print(f"parameters: {parameters}")
+pm.execute_notebook(snakemake.input.notebook, snakemake.log.notebook, parameters=parameters,
+                    kernel_name="python3", language="python", cwd=os.getcwd(), progress_bar=False,
+                    log_output=False, execution_timeout=600)
+shutil.copyfile(snakemake.log.notebook, snakemake.output[0])
