@@ -44,7 +44,7 @@ def shape_figure(beam_spec: Mapping, identified: Mapping[str, pd.DataFrame], cas
         ax.plot(x, exact[:, r], "k-", lw=1, label="exact")
         ax.axhline(0, color="0.8", lw=0.5)
         ax.set_ylabel(f"mode {r + 1}")
-    axes[0].legend(fontsize=8, ncols=3, loc="upper right")
+    axes[0].legend(fontsize=8, ncols=3, loc="lower center")  # mode 1 is positive: its lower half is empty
     axes[-1].set_xlabel("x (m)")
     fig.suptitle(title, fontsize=10)
     return fig
