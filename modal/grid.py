@@ -65,45 +65,49 @@ from ._checks import nonnegative_float, positive_float, positive_int
 THESIS_ESTIMATES_HZ = (0.83, 1.76, 4.35, 6.49)
 
 
-def _bending(ei: float, m: float, length: float):
-    """Hermite-cubic beam element, DOFs ``(w1, w1', w2, w2')``."""
-    L = length
-    k = ei / L**3 * np.array(
+def _stack(rows) -> np.ndarray:
+    """``rows`` of per-element arrays -> ``(n_elements, n, n)``."""
+    return np.moveaxis(np.array([np.broadcast_arrays(*row) for row in rows], dtype=float), -1, 0)
+
+
+def _bending(ei, m, L):
+    """Hermite-cubic beam elements, DOFs ``(w1, w1', w2, w2')``; arrays over elements."""
+    k = _stack(
         [
             [12, 6 * L, -12, 6 * L],
             [6 * L, 4 * L**2, -6 * L, 2 * L**2],
             [-12, -6 * L, 12, -6 * L],
             [6 * L, 2 * L**2, -6 * L, 4 * L**2],
         ]
-    )
-    mm = m * L / 420 * np.array(
+    ) * (ei / L**3)[:, None, None]
+    mm = _stack(
         [
             [156, 22 * L, 54, -13 * L],
             [22 * L, 4 * L**2, 13 * L, -3 * L**2],
             [54, 13 * L, 156, -22 * L],
             [-13 * L, -3 * L**2, -22 * L, 4 * L**2],
         ]
-    )
+    ) * (m * L / 420)[:, None, None]
     return k, mm
 
 
-def _geometric(tension: float, length: float):
+def _geometric(tension, L):
     """Consistent geometric stiffness of an axial force (tension > 0), DOFs as :func:`_bending`."""
-    L = length
-    return tension / (30 * L) * np.array(
+    return _stack(
         [
             [36, 3 * L, -36, 3 * L],
             [3 * L, 4 * L**2, -3 * L, -(L**2)],
             [-36, -3 * L, 36, -3 * L],
             [3 * L, -(L**2), -3 * L, 4 * L**2],
         ]
-    )
+    ) * (tension / (30 * L))[:, None, None]
 
 
-def _bar(stiffness: float, inertia: float, length: float):
-    """Linear (torsion) element: stiffness ``GJ``, inertia per length."""
-    k = stiffness / length * np.array([[1.0, -1.0], [-1.0, 1.0]])
-    m = inertia * length / 6 * np.array([[2.0, 1.0], [1.0, 2.0]])
+def _bar(stiffness, inertia, L):
+    """Linear (torsion) elements: stiffness ``GJ``, inertia per length; arrays over elements."""
+    unit = np.array([[1.0, -1.0], [-1.0, 1.0]])
+    k = (stiffness / L)[:, None, None] * unit
+    m = (inertia * L / 6)[:, None, None] * np.array([[2.0, 1.0], [1.0, 2.0]])
     return k, m
 
 
@@ -126,6 +130,11 @@ class Grid:
         Thickness ``t`` of the vertical strips (m).
     thickness_horizontal : float, optional
         Thickness of the horizontal strips; default ``thickness``.
+    strip_width_horizontal : float, optional
+        Width of the horizontal strips; default ``strip_width``.
+    horizontal_y : tuple of float, optional
+        Heights (m) of the ``n_horizontal`` horizontal strips, strictly
+        decreasing, ``height > y >= 0``; default equal spacing.
     youngs_modulus, poisson, density : float
         ``E`` (Pa), ``nu`` (``G = E / (2 (1 + nu))``), ``rho`` (kg/m^3).
     elements_per_bay : int
@@ -147,6 +156,8 @@ class Grid:
     strip_width: float = 0.050
     thickness: float = 0.0020
     thickness_horizontal: float | None = None
+    strip_width_horizontal: float | None = None
+    horizontal_y: tuple[float, ...] | None = None
     youngs_modulus: float = 70e9
     poisson: float = 0.33
     density: float = 2700.0
@@ -157,11 +168,25 @@ class Grid:
     def __post_init__(self):
         for name in ("width", "height", "strip_width", "thickness", "youngs_modulus", "density"):
             positive_float(name, getattr(self, name))
-        if self.thickness_horizontal is not None:
-            positive_float("thickness_horizontal", self.thickness_horizontal)
+        for name in ("thickness_horizontal", "strip_width_horizontal"):
+            if getattr(self, name) is not None:
+                positive_float(name, getattr(self, name))
         positive_int("n_vertical", self.n_vertical, minimum=2)
         positive_int("n_horizontal", self.n_horizontal, minimum=1)
         positive_int("elements_per_bay", self.elements_per_bay)
+        if self.horizontal_y is not None:
+            y = np.asarray(self.horizontal_y, dtype=float)
+            if (
+                y.shape != (self.n_horizontal,)
+                or not np.all(np.isfinite(y))
+                or np.any(np.diff(y) >= 0)
+                or y[0] >= self.height
+                or y[-1] < 0
+            ):
+                raise ValueError(
+                    f"horizontal_y must hold {self.n_horizontal} strictly decreasing heights "
+                    f"in [0, height), got {self.horizontal_y!r}"
+                )
         nonnegative_float("sensor_mass", self.sensor_mass)
         nonnegative_float("gravity", self.gravity)
         nu = float(self.poisson)
@@ -182,8 +207,18 @@ class Grid:
     @property
     def y_horizontal(self) -> np.ndarray:
         """y (m) of the horizontal strips, top to bottom."""
+        if self.horizontal_y is not None:
+            return np.array(self.horizontal_y, dtype=float)
         k = np.arange(1, self.n_horizontal + 1)
         return self.height * (1 - k / self.n_horizontal)
+
+    def section(self, direction: int):
+        """``(b, t)`` of the vertical (``direction = 0``) or horizontal (1) strips."""
+        if direction == 0:
+            return self.strip_width, self.thickness
+        b = self.strip_width_horizontal if self.strip_width_horizontal is not None else self.strip_width
+        t = self.thickness_horizontal if self.thickness_horizontal is not None else self.thickness
+        return b, t
 
     @cached_property
     def _mesh(self):
@@ -218,7 +253,7 @@ class Grid:
         clamped = np.flatnonzero(np.isclose(xy[:, 1], self.height))
         fixed = np.concatenate([3 * clamped + c for c in range(3)])
         free = np.setdiff1d(np.arange(3 * len(nodes)), fixed)
-        return dict(xy=xy, crossings=np.array(crossings), elements=elements, clamped=clamped, free=free)
+        return dict(xy=xy, crossings=np.array(crossings), elements=np.array(elements), clamped=clamped, free=free)
 
     @property
     def coordinates(self) -> np.ndarray:
@@ -260,60 +295,64 @@ class Grid:
         return pos
 
     # ------------------------------------------------------------------ matrices
-    def _tension(self):
-        """Axial force (N) in each vertical strip at height y, by tributary weight."""
-        g = self.gravity
-        b = self.strip_width
-        th = self.thickness_horizontal or self.thickness
-        mv = self.density * b * self.thickness  # kg/m, vertical strips
-        mh = self.density * b * th
+    def _tension(self, strip, y):
+        """Axial force (N) in vertical strip ``strip`` at height ``y`` (arrays):
+        the weight hanging below, horizontal strips and crossing masses
+        shared among the vertical strips by tributary width."""
+        mv = self.density * np.prod(self.section(0))  # kg/m, vertical strips
+        mh = self.density * np.prod(self.section(1))
         bay = self.width / (self.n_vertical - 1)
         tributary = np.full(self.n_vertical, bay)
         tributary[[0, -1]] = bay / 2
-        ys = self.y_horizontal
-
-        def tension(j, y):
-            below = ys[ys < y - 1e-12]
-            w_point = below.size * (mh * tributary[j] + self.sensor_mass)
-            return g * (mv * y + w_point)
-
-        return tension
+        rows_below = np.sum(self.y_horizontal[None, :] < y[:, None] - 1e-12, axis=1)
+        return self.gravity * (mv * y + rows_below * (mh * tributary[strip] + self.sensor_mass))
 
     @cached_property
     def _matrices(self):
         mesh = self._mesh
         xy = mesh["xy"]
+        a, c, direction, strip = mesh["elements"].T
+        d = xy[c] - xy[a]
+        L = np.hypot(d[:, 0], d[:, 1])
+        cs, sn = d[:, 0] / L, d[:, 1] / L
+        (bv, tv), (bh, th) = self.section(0), self.section(1)
+        vertical = direction == 0
+        b, t = np.where(vertical, bv, bh), np.where(vertical, tv, th)
+        G, E, rho = self.shear_modulus, self.youngs_modulus, self.density
+        kb, mb = _bending(E * b * t**3 / 12, rho * b * t, L)
+        kt, mt = _bar(G * b * t**3 / 3, rho * b * t * (b**2 + t**2) / 12, L)
+        if self.gravity > 0:
+            N = np.zeros(L.size)
+            N[vertical] = self._tension(strip[vertical], 0.5 * (xy[a, 1] + xy[c, 1])[vertical])
+            kb = kb + _geometric(N, L)
+            # Wagner term: tension resists twist with N I_p / A, I_p / A = (b^2 + t^2) / 12.
+            kt = kt + _bar(N * (b**2 + t**2) / 12, np.zeros_like(L), L)[0]
+        ne = L.size
+        kl, ml = np.zeros((ne, 6, 6)), np.zeros((ne, 6, 6))
+        ib, it = [0, 1, 3, 4], [2, 5]
+        # Local DOFs: w1, dw/ds1, dw/dn1, w2, dw/ds2, dw/dn2.
+        kl[np.ix_(range(ne), ib, ib)], ml[np.ix_(range(ne), ib, ib)] = kb, mb
+        kl[np.ix_(range(ne), it, it)], ml[np.ix_(range(ne), it, it)] = kt, mt
+        # Local (w, dw/ds, dw/dn) = T @ global (w, dw/dx, dw/dy), per node.
+        T = np.zeros((ne, 6, 6))
+        for o in (0, 3):
+            T[:, o, o] = 1.0
+            T[:, o + 1, o + 1], T[:, o + 1, o + 2] = cs, sn
+            T[:, o + 2, o + 1], T[:, o + 2, o + 2] = -sn, cs
+        kg = np.einsum("eji,ejk,ekl->eil", T, kl, T)
+        mg = np.einsum("eji,ejk,ekl->eil", T, ml, T)
+        dofs = np.concatenate([3 * a[:, None] + np.arange(3), 3 * c[:, None] + np.arange(3)], axis=1)
         n = 3 * len(xy)
         K, M = np.zeros((n, n)), np.zeros((n, n))
-        b, G, E, rho = self.strip_width, self.shear_modulus, self.youngs_modulus, self.density
-        tension = self._tension()
-        for a, c, direction, strip in mesh["elements"]:
-            t = self.thickness if direction == 0 else (self.thickness_horizontal or self.thickness)
-            ei, gj = E * b * t**3 / 12, G * b * t**3 / 3
-            m, ip = rho * b * t, rho * b * t * (b**2 + t**2) / 12
-            d = xy[c] - xy[a]
-            L = float(np.hypot(*d))
-            cs, sn = d / L
-            kb, mb = _bending(ei, m, L)
-            kt, mt = _bar(gj, ip, L)
-            if direction == 0 and self.gravity > 0:
-                N = tension(strip, 0.5 * (xy[a, 1] + xy[c, 1]))
-                kb = kb + _geometric(N, L)
-                kt = kt + N * (b**2 + t**2) / 12 / L * np.array([[1.0, -1.0], [-1.0, 1.0]])
-            # Local (w, dw/ds, dw/dn) = T @ global (w, dw/dx, dw/dy).
-            T = np.array([[1.0, 0, 0], [0, cs, sn], [0, -sn, cs]])
-            Te = scipy.linalg.block_diag(T, T)
-            kl, ml = np.zeros((6, 6)), np.zeros((6, 6))
-            ib, it = [0, 1, 3, 4], [2, 5]
-            kl[np.ix_(ib, ib)], ml[np.ix_(ib, ib)] = kb, mb
-            kl[np.ix_(it, it)], ml[np.ix_(it, it)] = kt, mt
-            dofs = np.r_[3 * a : 3 * a + 3, 3 * c : 3 * c + 3]
-            K[np.ix_(dofs, dofs)] += Te.T @ kl @ Te
-            M[np.ix_(dofs, dofs)] += Te.T @ ml @ Te
+        rows, cols = np.broadcast_arrays(dofs[:, :, None], dofs[:, None, :])
+        np.add.at(K, (rows, cols), kg)
+        np.add.at(M, (rows, cols), mg)
         wdofs = 3 * mesh["crossings"]
         M[wdofs, wdofs] += self.sensor_mass
         free = mesh["free"]
-        return K[np.ix_(free, free)], M[np.ix_(free, free)]
+        K, M = K[np.ix_(free, free)], M[np.ix_(free, free)]
+        # Symmetrise against round-off of the transformations.
+        return 0.5 * (K + K.T), 0.5 * (M + M.T)
 
     def stiffness(self) -> np.ndarray:
         """Stiffness matrix ``K`` over the free DOFs (elastic plus geometric)."""
@@ -363,10 +402,9 @@ class Grid:
     @property
     def total_mass(self) -> float:
         """Mass of the strips and crossing masses (kg)."""
-        b, rho = self.strip_width, self.density
-        th = self.thickness_horizontal or self.thickness
+        rho = self.density
         return (
-            rho * b * self.thickness * self.height * self.n_vertical
-            + rho * b * th * self.width * self.n_horizontal
+            rho * np.prod(self.section(0)) * self.height * self.n_vertical
+            + rho * np.prod(self.section(1)) * self.width * self.n_horizontal
             + self.sensor_mass * self.n_vertical * self.n_horizontal
         )

@@ -93,3 +93,53 @@ def cera_sensitivity_figure(table: pd.DataFrame, title: str) -> Figure:
     axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods at multiples of 360)")
     fig.suptitle(title, fontsize=10)
     return fig
+
+
+def grid_figure(grid, nodes, chosen, title: str) -> Figure:
+    """The grid's strips, the clamp along the top, all accelerometers and the
+    chosen ones numbered 1..k in order of choice (Fig. 12)."""
+    xy = grid.coordinates
+    fig = Figure(figsize=(5.5, 6.5), layout="constrained")
+    ax = fig.subplots()
+    for x in grid.x_vertical:
+        ax.plot([x, x], [0, grid.height], color="0.5", lw=4, solid_capstyle="butt")
+    for y in grid.y_horizontal:
+        ax.plot([0, grid.width], [y, y], color="0.5", lw=4, solid_capstyle="butt")
+    ax.plot([-0.1, grid.width + 0.1], [grid.height, grid.height], "k-", lw=6)
+    ax.text(grid.width / 2, grid.height + 0.05, "clamped (I-beam)", ha="center", va="bottom")
+    ax.plot(*xy[nodes].T, "o", mfc="white", mec="k", ms=9, label="accelerometers")
+    for rank, node in enumerate(np.asarray(nodes)[chosen]):
+        ax.plot(*xy[node], "o", color="tab:red", ms=9)
+        ax.annotate(str(rank + 1), xy[node], xytext=(6, 6), textcoords="offset points", color="tab:red",
+                    fontweight="bold")
+    ax.plot([], [], "o", color="tab:red", label="used (numbered by choice)")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.25), ncols=2, fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    return fig
+
+
+def response_figure(acc: np.ndarray, dt: float, numbers, title: str, spectrum: bool = True,
+                    fmax_hz: float = 25.0) -> Figure:
+    """Time response (and amplitude spectrum) of accelerometers (Figs. 13-21)."""
+    from .signals import amplitude_spectrum
+
+    acc = np.atleast_2d(acc.T).T
+    n = acc.shape[1]
+    t = dt * np.arange(acc.shape[0])
+    fig = Figure(figsize=(7, 2.4 * n), layout="constrained")
+    axes = np.atleast_2d(fig.subplots(n, 2 if spectrum else 1, squeeze=False))
+    freqs, amp = amplitude_spectrum(acc - acc.mean(axis=0), dt)
+    band = freqs <= fmax_hz
+    for k in range(n):
+        axes[k, 0].plot(t, acc[:, k], lw=0.6)
+        axes[k, 0].set_ylabel(f"accelerometer {numbers[k]}\n(m/s²)")
+        axes[k, 0].set_xlabel("t (s)")
+        if spectrum:
+            axes[k, 1].semilogy(freqs[band], amp[band, k], lw=0.8)
+            axes[k, 1].set_xlabel("f (Hz)")
+            axes[k, 1].set_ylabel("|FFT| / N")
+    fig.suptitle(title, fontsize=10)
+    return fig

@@ -151,9 +151,9 @@ def _cell(row) -> str:
     text = f"{row['reproduced']:.{digits}f}"
     if row["method"] == "actual":
         return text
-    if row["n_seeds"] > 1:
+    if row["n_seeds"] > 1 and np.isfinite(row["std"]):
         text += f" ± {row['std']:.{digits}f}"
-    if row.get("seed0_real_pole"):
+    if row.get("seed0_real_pole") is True or row.get("seed0_real_pole") == 1:
         text += " (seed 0: *)"
     if row.get("real_pole_frac", 0) and row["real_pole_frac"] > 0:
         text += f" [* in {100 * row['real_pole_frac']:.0f} %]"
@@ -189,6 +189,13 @@ def to_markdown(table: pd.DataFrame, title: str, notes: Sequence[str] = ()) -> s
                     r = rows[rows["interpretation"] == interp]
                     cells.append(_cell(r.iloc[0]) if len(r) else "")
         lines.append("| " + " | ".join(cells) + " |")
+    if "actual" not in set(table["method"]) and table["actual"].notna().any():
+        true = table.groupby("mode")["actual"].first()
+        lines[2] = lines[2][:-2] + " | true (model) |"
+        lines[3] += "---|"
+        for i, mode in enumerate(sorted(table["mode"].unique())):
+            value = true.get(mode, float("nan"))
+            lines[4 + i] += f" {value:.3f} |" if pd.notna(value) else "  |"
     if notes:
         lines += [""] + [f"- {note}" for note in notes]
     return "\n".join(lines) + "\n"

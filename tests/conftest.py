@@ -45,6 +45,7 @@ SMALL_CONFIG = {
         "noise": {"noise_sweep": {"damping": 0.01, "noise": [0.03, 0.034]}},
         "cera": {"cols_sweep": [360, 500]},
     },
+    "grid": {"seeds": {"first": 0, "count": 2}},
 }
 
 

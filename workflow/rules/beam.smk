@@ -33,7 +33,7 @@ rule table:
         interpretations=lambda w: config["studies"][table_spec(int(w.number))["study"]]["interpretations"],
         first_seed=config["seeds"]["first"],
     wildcard_constraints:
-        number=r"\d\d",
+        number=beam_table_pattern(),
     log:
         "results/logs/table_{number}.log",
     script:

@@ -108,3 +108,27 @@ def report_inputs():
 def report_outputs():
     """The executed notebooks and the HTML report (called by rule all)."""
     return [f"results/notebooks/{name}.ipynb" for name in NOTEBOOKS] + ["results/report.html"]
+
+
+# --- grid stage (grid.smk): Chapter 7 ------------------------------------------
+
+GRID_TABLES = [10, 11, 12, 13, 14, 15]
+GRID_FIGURES = list(range(12, 22))
+
+
+def grid_inputs():
+    """A measured record is an input; the virtual test needs only the engine."""
+    grid = config.get("grid", {})
+    if grid.get("source") == "measured":
+        return [grid["measured"]["path"]]
+    return []
+
+
+def grid_outputs():
+    if "grid" not in config:
+        return []
+    return table_files(GRID_TABLES) + figure_files(GRID_FIGURES)
+
+
+def beam_table_pattern():
+    return "|".join(f"{n:02d}" for n in table_numbers())

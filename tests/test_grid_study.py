@@ -1,0 +1,87 @@
+"""The grid chapter's pipeline: virtual test -> choice -> filtering -> TCM/ERA -> tables."""
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+import modal
+import modal.grid_study as gs
+from modal.experiment import shake_test
+from modal.io import save_record_npz, write_uff58
+from conftest import ROOT
+
+CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+
+
+@pytest.fixture(scope="module")
+def spec():
+    s = copy.deepcopy(CONFIG["grid"])
+    s["seeds"] = {"first": 0, "count": 2}
+    return s
+
+
+@pytest.fixture(scope="module")
+def grid(spec):
+    return gs.grid_model(spec)
+
+
+def test_noise_free_virtual_test_era_exact(grid, spec):
+    # Four participating modes, no noise, no filtering: ERA recovers the true
+    # frequencies of the participating modes to 1e-6 relative.
+    test = {**spec["test"], "noise": 0.0, "n_modes": 4}
+    shaken = shake_test(grid, **test)
+    res = modal.era(shaken.acceleration, shaken.dt, 4, rows=20, cols=400)
+    np.testing.assert_allclose(res.freq_hz, shaken.freq_hz, rtol=1e-6)
+    assert not res.real_pole.any()
+
+
+def test_pipeline_tables(spec):
+    records = gs.grid_records(spec)
+    identified, selection = gs.run_grid_study(records, spec)
+    assert set(identified["case"]) == set(spec["cases"])
+    assert set(selection["seed"]) == {0, 1}
+    assert (selection.groupby("seed").size() == spec["n_selected"]).all()
+    published = modal.tables.read_published(ROOT / "config/thesis_tables.csv")
+    for number in (10, 11, 12, 13, 14, 15):
+        table = gs.grid_table(number, published[published["table"] == number], identified, selection, spec, 0)
+        assert len(table) == (published["table"] == number).sum()
+        ident = table[table["method"].isin(["tcm", "era"]) & table["published"].notna()
+                      & (table["column"] != "pct_change_from_10hz")]
+        assert ident["reproduced"].notna().all(), table
+        np.testing.assert_allclose(ident["rel_dev"], ident["reproduced"] / ident["published"] - 1)
+        # the true frequencies beside: those of the grid model
+        true = table.groupby("mode")["actual"].first().to_numpy()
+        np.testing.assert_allclose(true, gs.grid_model(spec).frequencies_hz(4), rtol=1e-12)
+
+
+def test_measured_record_path_gives_the_virtual_results(spec, tmp_path):
+    records = gs.grid_records({**spec, "seeds": {"first": 0, "count": 1}})
+    rec = records[0]
+    ident_virtual, _ = gs.run_grid_study(records, spec)
+    for path in (save_record_npz(tmp_path / "r.npz", rec.acceleration, rec.dt),
+                 write_uff58(tmp_path / "r.uff", rec.acceleration, rec.dt)):
+        measured = {**spec, "source": "measured", "measured": {"path": str(path), "fs": None, "channels": None}}
+        ident, _ = gs.run_grid_study(gs.grid_records(measured), measured)
+        np.testing.assert_allclose(ident["freq_hz"], ident_virtual["freq_hz"], rtol=1e-4)
+        assert ident["actual"].isna().all()
+
+
+def test_bad_input(spec):
+    rec = gs.grid_records({**spec, "seeds": {"first": 0, "count": 1}})[0]
+    nan = rec.acceleration.copy()
+    nan[100, 2] = np.nan
+    with pytest.raises(ValueError, match="NaN"):
+        gs.run_grid_study({0: gs.GridRecord(nan, rec.dt, rec.true_hz, rec.labels)}, spec)
+    with pytest.raises(ValueError, match="Nyquist"):
+        gs.run_grid_study({0: rec}, {**spec, "cases": {"lp150": 150.0}})
+    runs = {"era_m": {**spec["runs"]["era_m3"], "sets": 40}}
+    with pytest.raises(ValueError, match="reduce rows or cols"):
+        gs.run_grid_study({0: rec}, {**spec, "runs": runs})
+    with pytest.raises(ValueError, match="exceeds the 2 channels"):
+        gs.run_grid_study({0: rec}, {**spec, "accelerometers": [0, 1],
+                                      "runs": {"tcm": {"method": "tcm", "cases": ["raw"], "n_identified": [3]}}})
+    with pytest.raises(ValueError, match="grid.accelerometers"):
+        gs.choose_accelerometers(rec, {**spec, "accelerometers": [0, 11]})
