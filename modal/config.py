@@ -74,5 +74,67 @@ def check(config: Mapping) -> None:
                 problems.append(f"shape_figures.{number}.case = {fig['case']!r} is not a case of studies.demo")
             if fig["method"] not in studies["demo"]["methods"]:
                 problems.append(f"shape_figures.{number}.method = {fig['method']!r} is not run in studies.demo")
+    if "grid" in config:
+        problems += grid_problems(config["grid"])
     if problems:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+
+
+def grid_problems(grid: Mapping) -> list[str]:
+    """Inconsistencies of the ``grid`` block (Ch. 7): cutoffs at or above
+    Nyquist, runs needing more accelerometers than are chosen, Hankel
+    matrices longer than a (split) record, unknown cases, runs or nodes."""
+    problems = []
+    test = grid["test"]
+    n_channels = len(test["sensors"])
+    if grid["source"] == "virtual":
+        model = grid["model"]
+        n_cross = model.get("n_vertical", 4) * model.get("n_horizontal", 5)
+        for key in ("sensors", "force_nodes"):
+            for i, node in enumerate(test[key]):
+                if node >= n_cross:
+                    problems.append(f"grid.test.{key}[{i}] = {node} is not a strip crossing (0..{n_cross - 1})")
+    elif not (grid.get("measured") or {}).get("path"):
+        problems.append("grid.measured.path is required when grid.source is 'measured'")
+    n_samples, nyquist = test["n_samples"], test["fs"] / 2
+    chosen = len(grid["accelerometers"]) if grid.get("accelerometers") else grid["n_selected"]
+    if grid["source"] == "virtual" and chosen > n_channels:
+        problems.append(f"grid.n_selected = {chosen} exceeds the {n_channels} accelerometers of grid.test.sensors")
+    for case, cutoff in grid["cases"].items():
+        if cutoff is not None and cutoff >= nyquist:
+            problems.append(f"grid.cases.{case} = {cutoff} Hz must be below the Nyquist frequency {nyquist} Hz")
+    if grid["figures_cutoff_hz"] >= nyquist:
+        problems.append(f"grid.figures_cutoff_hz = {grid['figures_cutoff_hz']} Hz must be below Nyquist {nyquist} Hz")
+    for name, run in grid["runs"].items():
+        key = f"grid.runs.{name}"
+        for case in run["cases"]:
+            if case not in grid["cases"]:
+                problems.append(f"{key}.cases: {case!r} is not one of grid.cases {sorted(grid['cases'])}")
+        ns = run.get("n_identified") or [run.get("n_modes")]
+        if None in ns:
+            problems.append(f"{key} needs n_modes or n_identified")
+            continue
+        if run["method"] == "tcm" and max(ns) > chosen:
+            problems.append(f"{key}: n = {max(ns)} modes needs {max(ns)} sensors, but {chosen} accelerometers are chosen")
+        if run["method"] == "era":
+            missing = [k for k in ("sensors", "rows", "cols") if k not in run]
+            if missing:
+                problems.append(f"{key} needs {', '.join(missing)}")
+                continue
+            if run["sensors"] > chosen:
+                problems.append(f"{key}.sensors = {run['sensors']} exceeds the {chosen} chosen accelerometers")
+            length = n_samples // run.get("sets", 1)
+            if run["rows"] + run["cols"] > length:
+                problems.append(f"{key}: rows + cols = {run['rows'] + run['cols']} exceeds the {length} samples "
+                                f"of each of the {run.get('sets', 1)} data sets")
+            if 2 * max(ns) > min(run["rows"] * run["sensors"], run["cols"] * run.get("sets", 1)):
+                problems.append(f"{key}: 2 n = {2 * max(ns)} exceeds the Hankel size")
+    for number, table in grid["tables"].items():
+        key = f"grid.tables.{number}"
+        for case in (table["case"], table.get("reference_case", table["case"])):
+            if case not in grid["cases"]:
+                problems.append(f"{key}: case {case!r} is not one of grid.cases")
+        for label, run in table["runs"].items():
+            if run not in grid["runs"]:
+                problems.append(f"{key}.runs.{label} = {run!r} is not one of grid.runs")
+    return problems

@@ -178,3 +178,50 @@ def test_lint_clean_apart_from_conda():
     lints = [line.strip() for line in (proc.stdout + proc.stderr).splitlines() if line.strip().startswith("* ")]
     assert lints, "expected at least the conda lint"
     assert all("conda environment or container" in lint for lint in lints), lints
+
+
+BAD_GRID = [
+    ("grid.cases.lp10", 150.0, "grid.cases.lp10 = 150.0 Hz must be below the Nyquist frequency 100.0 Hz"),
+    ("grid.runs.tcm.n_identified", [2, 7], "grid.runs.tcm: n = 7 modes needs 7 sensors, but 6 accelerometers"),
+    ("grid.runs.era_m3.sets", 40, "grid.runs.era_m3: rows + cols = 136 exceeds the 102 samples"),
+    ("grid.test.sensors", [0, 3, 25], "grid.test.sensors[2] = 25 is not a strip crossing"),
+    ("grid.tables.13.runs.era m=3", "era_m9", "grid.tables.13.runs.era m=3 = 'era_m9'"),
+]
+
+
+@pytest.mark.parametrize("path, value, message", BAD_GRID)
+def test_grid_config_rejected(path, value, message):
+    config = copy.deepcopy(base_config())
+    keys = path.split(".")
+    node = config
+    for key in keys[:-1]:
+        node = node[key] if key in node else node[int(key)]
+    node[keys[-1]] = value
+    validate(config, SCHEMA)
+    with pytest.raises(ValueError, match=re.escape(message)):
+        modal.config.check(config)
+
+
+@pytest.mark.parametrize("path, value", [("grid.source", "simulated"), ("grid.test.noise", -0.1),
+                                         ("grid.cases.lp10", -5.0), ("grid.runs.tcm.method", "ssi")])
+def test_grid_schema_rejects(path, value):
+    config = copy.deepcopy(base_config())
+    keys = path.split(".")
+    node = config
+    for key in keys[:-1]:
+        node = node[key]
+    node[keys[-1]] = value
+    with pytest.raises(Exception, match=keys[-1]):
+        validate(config, SCHEMA)
+
+
+def test_grid_end_to_end(workdir):
+    for n in range(10, 16):
+        table = pd.read_csv(workdir / f"results/tables/table_{n:02d}.csv", dtype={"printed": str})
+        assert {"published", "reproduced", "actual", "rel_dev"} <= set(table)
+        assert (table["method"] == "est").any()
+        md = (workdir / f"results/tables/table_{n:02d}.md").read_text()
+        assert "true (model)" in md
+    for n in range(12, 22):
+        assert (workdir / f"results/figures/figure_{n:02d}.png").read_bytes()[:4] == b"\x89PNG"
+    assert "within 5 %" in (workdir / "results/tables/table_10.md").read_text()
