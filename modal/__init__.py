@@ -2,12 +2,16 @@
 
 TCM (Eqs. 21-31), ERA (Eqs. 34-45) and CERA (Eqs. 46-52) of the thesis
 "Experimental Verification and Development of Structural Identification
-Techniques on a Grid", with beam simulation, preprocessing and indicators.
+Techniques on a Grid", with beam simulation, preprocessing and indicators,
+the finite-element grid and its virtual shaking test (Ch. 7), and record I/O.
 """
 
 from .cera import cera
 from .era import era
+from .experiment import ShakeTest, pick_peaks, select_sharpest, shake_test, sharpness
+from .grid import Grid
 from .hankel import hankel
+from .io import load_record, save_record_npz, write_uff58
 from .indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
 from .result import ModalResult
 from .signals import amplitude_spectrum, integrate_acceleration, lowpass_fft, split_record
@@ -16,8 +20,10 @@ from .structures import SimplySupportedBeam
 from .tcm import tcm
 
 __all__ = [
+    "Grid",
     "ModalResult",
     "Record",
+    "ShakeTest",
     "SimplySupportedBeam",
     "add_noise",
     "align_shapes",
@@ -28,11 +34,18 @@ __all__ = [
     "hankel",
     "impulse_response",
     "integrate_acceleration",
+    "load_record",
     "lowpass_fft",
     "mac",
     "modal_amplitude_coherence",
     "modal_phase_collinearity",
+    "pick_peaks",
+    "save_record_npz",
+    "select_sharpest",
+    "shake_test",
+    "sharpness",
     "split_record",
     "tcm",
     "with_noise",
+    "write_uff58",
 ]

@@ -23,10 +23,10 @@ DT_RTOL = 1e-6
 
 
 def _as_record(acc, name: str = "acc") -> np.ndarray:
-    a = np.asarray(acc, dtype=float) if not isinstance(acc, np.ndarray) else acc.astype(float)
+    """``acc`` as a finite ``(n_samples, n_channels)`` float array (1-D: one channel)."""
+    a = finite_array(name, acc, ndim=(1, 2))
     if a.ndim == 1:
         a = a[:, None]
-    a = finite_array(name, a, ndim=(2,))
     if a.shape[0] < 2:
         raise ValueError(f"{name} needs at least 2 samples, got {a.shape[0]}")
     return a
@@ -74,7 +74,9 @@ def _load_csv(path: Path, fs):
         raise ValueError(f"{path}: fewer than 2 data rows")
     widths = {len(row) for row in rows}
     if len(widths) != 1:
-        raise ValueError(f"{path}: rows have unequal numbers of columns {sorted(widths)}: channels of unequal length")
+        raise ValueError(
+            f"{path}: rows have unequal numbers of columns {sorted(widths)}: channels of unequal length"
+        )
     try:
         table = np.array([[float(cell) if cell.strip() else np.nan for cell in row] for row in rows])
     except ValueError as exc:
