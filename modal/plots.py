@@ -99,7 +99,7 @@ def grid_figure(grid, nodes, chosen, title: str) -> Figure:
     """The grid's strips, the clamp along the top, all accelerometers and the
     chosen ones numbered 1..k in order of choice (Fig. 12)."""
     xy = grid.coordinates
-    fig = Figure(figsize=(5.5, 6.5), layout="constrained")
+    fig = Figure(figsize=(6.0, 4.6), layout="constrained")
     ax = fig.subplots()
     for x in grid.x_vertical:
         ax.plot([x, x], [0, grid.height], color="0.5", lw=4, solid_capstyle="butt")
@@ -132,7 +132,7 @@ def response_figure(acc: np.ndarray, dt: float, numbers, title: str, spectrum: b
     fig = Figure(figsize=(7, 2.4 * n), layout="constrained")
     axes = np.atleast_2d(fig.subplots(n, 2 if spectrum else 1, squeeze=False))
     freqs, amp = amplitude_spectrum(acc - acc.mean(axis=0), dt)
-    band = freqs <= fmax_hz
+    band = (freqs > 0) & (freqs <= fmax_hz)  # the mean is removed: no DC line
     for k in range(n):
         axes[k, 0].plot(t, acc[:, k], lw=0.6)
         axes[k, 0].set_ylabel(f"accelerometer {numbers[k]}\n(m/s²)")
