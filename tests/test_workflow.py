@@ -191,12 +191,7 @@ BAD_GRID = [
 
 @pytest.mark.parametrize("path, value, message", BAD_GRID)
 def test_grid_config_rejected(path, value, message):
-    config = copy.deepcopy(base_config())
-    keys = path.split(".")
-    node = config
-    for key in keys[:-1]:
-        node = node[key] if key in node else node[int(key)]
-    node[keys[-1]] = value
+    config = _set(copy.deepcopy(base_config()), path, value)
     validate(config, SCHEMA)
     with pytest.raises(ValueError, match=re.escape(message)):
         modal.config.check(config)
@@ -205,13 +200,8 @@ def test_grid_config_rejected(path, value, message):
 @pytest.mark.parametrize("path, value", [("grid.source", "simulated"), ("grid.test.noise", -0.1),
                                          ("grid.cases.lp10", -5.0), ("grid.runs.tcm.method", "ssi")])
 def test_grid_schema_rejects(path, value):
-    config = copy.deepcopy(base_config())
-    keys = path.split(".")
-    node = config
-    for key in keys[:-1]:
-        node = node[key]
-    node[keys[-1]] = value
-    with pytest.raises(Exception, match=keys[-1]):
+    config = _set(copy.deepcopy(base_config()), path, value)
+    with pytest.raises(Exception, match=path.split(".")[-1]):
         validate(config, SCHEMA)
 
 
