@@ -182,8 +182,9 @@ def grid_table(number: int, published: pd.DataFrame, identified: pd.DataFrame, s
         out.append({**base, **stats, "n": n})
     table = pd.DataFrame(out)
     table["z"] = np.where(table["std"] > 0, (table["published"] - table["reproduced"]) / table["std"], np.nan)
-    # a printed 0.0 % change has no relative deviation
-    table["rel_dev"] = (table["reproduced"] - table["published"]) / table["published"].where(table["published"] != 0)
+    # percent changes (Table 12) are compared in percentage points, not relatively
+    pct = table["column"] == "pct_change_from_10hz"
+    table["rel_dev"] = ((table["reproduced"] - table["published"]) / table["published"]).where(~pct)
     table["printed_match"] = [bool(np.isfinite(r) and round(r, decimals(p)) == float(p))
                               for r, p in zip(table["reproduced"], table["printed"])]
     return table

@@ -18,4 +18,5 @@ table.to_csv(snakemake.output.csv, index=False)
 model_hz = gs.grid_model(spec).frequencies_hz(4) if spec["source"] == "virtual" and number == 10 else None
 notes = gs.grid_notes(number, table, identified, spec, model_hz)
 with open(snakemake.output.md, "w") as fh:
-    fh.write(modal.tables.to_markdown(table, f"Table {number}. {spec['tables'][number]['title']} (Hz)", notes))
+    fh.write(modal.tables.to_markdown(table, f"Table {number}. {spec['tables'][number]['title']} "
+                                       f"(Hz; {'virtual grid' if spec['source'] == 'virtual' else 'measured record'})", notes))
