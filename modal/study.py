@@ -56,6 +56,9 @@ def identify(record: Record, method: str, settings: Mapping, signals, channels=N
         Subset of sensors (0-based), e.g. the first n for spillover.
     """
     pick = slice(None) if channels is None else list(channels)
+    for name in [signals] if isinstance(signals, str) else signals:
+        if name not in SIGNAL_ORDER:
+            raise ValueError(f"signals: {name!r} is not one of {list(SIGNAL_ORDER)}")
     if method == "tcm":
         low, high = (record.signal(SIGNAL_ORDER[s])[:, pick] for s in signals)
         if settings.get("lag", 0):
