@@ -19,6 +19,8 @@ def positive_int(name: str, value, minimum: int = 1) -> int:
 
 def positive_float(name: str, value) -> float:
     """Return ``value`` as ``float`` if it is finite and strictly positive."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a positive number, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -30,6 +32,8 @@ def positive_float(name: str, value) -> float:
 
 def nonnegative_float(name: str, value) -> float:
     """Return ``value`` as ``float`` if it is finite and ``>= 0``."""
+    if isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name} must be a number >= 0, got {value!r}")
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -40,7 +44,13 @@ def nonnegative_float(name: str, value) -> float:
 
 
 def finite_array(name: str, value, ndim: tuple[int, ...]) -> np.ndarray:
-    """Return ``value`` as a float array of one of the ranks ``ndim``, all finite."""
+    """Return ``value`` as a float array of one of the ranks ``ndim``, all finite
+    (real numbers only: booleans and complex values are refused)."""
+    raw = np.asarray(value)
+    if raw.dtype.kind in "bcOUS" and not (raw.dtype.kind == "O" and raw.size and
+                                          all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
+                                              for v in raw.ravel())):
+        raise ValueError(f"{name} must hold real numbers, got dtype {raw.dtype}")
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

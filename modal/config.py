@@ -61,6 +61,11 @@ def check(config: Mapping) -> None:
                 problems.append(f"{mkey}.lag = {lag} leaves too few of the {n_samples} samples")
             if duration is not None and duration <= 0:
                 problems.append(f"{mkey}.duration must be > 0")
+    if "grid" in config:
+        for number in config["tables"]:
+            if int(number) in {int(n) for n in config["grid"]["tables"]}:
+                problems.append(f"tables.{number}: table {number} is a grid table (grid.tables); "
+                                "beam table numbers must differ")
     for number, table in config["tables"].items():
         key = f"tables.{number}"
         study = studies.get(table["study"])

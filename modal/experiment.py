@@ -288,7 +288,7 @@ def shake_test(
     if omega.size == 0:
         raise ValueError(f"no mode at or below fmax_hz = {fmax_hz}")
     zeta = modal_damping(damping, omega.size)
-    force_ss, noise_ss = np.random.SeedSequence(seed).spawn(2)
+    force_ss, noise_ss = np.random.SeedSequence(positive_int("seed", seed, minimum=0)).spawn(2)
 
     n_burst = max(2, int(round(burst * fs)))
     force = force_burst(n_burst, force_nodes.size, dt, np.random.default_rng(force_ss), force_rms, force_cutoff_hz)

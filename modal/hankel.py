@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import positive_int
+from ._checks import positive_int, records
 
 
 def hankel(y: np.ndarray, rows: int, cols: int, start: int = 0) -> np.ndarray:
@@ -17,13 +17,14 @@ def hankel(y: np.ndarray, rows: int, cols: int, start: int = 0) -> np.ndarray:
 
     Parameters
     ----------
-    y : ndarray, shape (m, n_samples, l)
-        Validated records (see :func:`modal._checks.records`).
+    y : array_like, shape (n_samples, l) or (m, n_samples, l)
+        One or ``m`` data sets.
     rows, cols : int
         Block rows ``r`` and block columns ``s``.
     start : int
         First sample ``k``.
     """
+    y = records("y", y)
     rows = positive_int("rows", rows)
     cols = positive_int("cols", cols)
     start = positive_int("start", start, minimum=0)

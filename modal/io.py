@@ -52,8 +52,11 @@ def _load_npz(path: Path, fs):
         dt_file = None
         if "dt" in keys:
             dt_file = positive_float("dt", data["dt"])
-        elif "fs" in keys:
-            dt_file = 1.0 / positive_float("fs", data["fs"])
+        if "fs" in keys:
+            dt_fs = 1.0 / positive_float("fs", data["fs"])
+            if dt_file is not None and abs(dt_file - dt_fs) > DT_RTOL * dt_fs:
+                raise ValueError(f"{path}: the file's dt = {dt_file} s contradicts its fs = {float(data['fs'])} Hz")
+            dt_file = dt_fs
     return _as_record(acc), _resolve_dt(dt_file, fs, path)
 
 

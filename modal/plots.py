@@ -11,6 +11,7 @@ from matplotlib.figure import Figure
 
 from .indicators import align_shapes
 from .structures import SimplySupportedBeam
+from .tables import match_to_reference
 
 MARKERS = {"tcm": "o", "era": "x", "cera": "s"}
 STYLES = {0: "-", 1: "--", 2: ":"}
@@ -53,11 +54,14 @@ def shape_figure(beam_spec: Mapping, identified: Mapping[str, pd.DataFrame], cas
 def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) -> Figure:
     """Identified frequency of one mode against snr = 1 / eta: mean and a
     +-1 std band over seeds, the first seed's realisation as markers, the
-    exact value as a line (Figs. 9-11)."""
+    exact value as a line (Figs. 9-11). In each seed the mode is the entry
+    matched to it by frequency (:func:`modal.tables.match_to_reference`), so a
+    real pole or a lost mode does not shift the others."""
     fig = Figure(figsize=(6.5, 2.6 * len(identified)), layout="constrained")
     axes = np.atleast_1d(fig.subplots(len(identified), 1, sharex=True))
     for ax, (interp, frame) in zip(axes, identified.items()):
-        rows = frame[(frame["mode"] == mode) & ~frame["real_pole"].astype(bool)]
+        matched = pd.concat([match_to_reference(g) for _, g in frame.groupby(["method", "noise"])])
+        rows = frame[matched.reindex(frame.index) == mode]
         for method, group in rows.groupby("method"):
             stats = group.groupby("noise")["omega"].agg(["mean", "std"]).sort_index()
             snr = 1 / stats.index.to_numpy()

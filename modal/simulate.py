@@ -41,10 +41,9 @@ class Record:
 
     def signal(self, derivative: int) -> np.ndarray:
         """Output by derivative order: 0 displacement, 1 velocity, 2 acceleration."""
-        try:
-            return (self.displacement, self.velocity, self.acceleration)[derivative]
-        except (IndexError, TypeError):
-            raise ValueError(f"derivative must be 0, 1 or 2, got {derivative!r}") from None
+        if isinstance(derivative, bool) or derivative not in (0, 1, 2):
+            raise ValueError(f"derivative must be 0, 1 or 2, got {derivative!r}")
+        return (self.displacement, self.velocity, self.acceleration)[derivative]
 
 
 def damping_ratios(damping, n_modes: int) -> np.ndarray:

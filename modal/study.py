@@ -107,7 +107,8 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
         One row per identified mode with labels ``case, damping, noise,
         method, n, cols, seed`` and the :meth:`ModalResult.to_frame` columns
         (``damping_id`` is the identified damping ratio), plus ``actual``, the
-        exact frequency of that mode number.
+        exact frequency of that mode number, and ``participating``, the
+        number of modes in the response.
     """
     frames = []
     for case, params in study_cases(study).items():
@@ -123,6 +124,7 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
     out = pd.concat(frames, ignore_index=True)
     exact = beam_record(beam_spec, 0.0).omega
     out["actual"] = [exact[m - 1] if m <= exact.size else np.nan for m in out["mode"]]
+    out["participating"] = exact.size
     return out
 
 

@@ -153,3 +153,23 @@ def test_signals_bad_input(y):
         modal.split_record(y, 300)
     with pytest.raises(ValueError, match="acc contains NaN"):
         modal.integrate_acceleration(with_nan(y), DT)
+
+
+def test_more_bad_input(y, tmp_path):
+    with pytest.raises(ValueError, match="y contains NaN"):
+        modal.hankel(with_nan(y), 3, 4)
+    with pytest.raises(ValueError, match="dt"):
+        modal.era(y, True, 1, 5, 50)
+    with pytest.raises(ValueError, match="real numbers"):
+        modal.tcm(y + 1j, DT)
+    with pytest.raises(ValueError, match="real numbers"):
+        modal.era(y > 0, DT, 1, 5, 50)
+    rec = modal.impulse_response([2.0], [[1.0]], [1.0], DT, 10)
+    with pytest.raises(ValueError, match="derivative"):
+        rec.signal(-1)
+    path = tmp_path / "r.npz"
+    np.savez(path, acc=y, dt=0.1, fs=5.0)
+    with pytest.raises(ValueError, match="contradicts"):
+        modal.load_record(path)
+    with pytest.raises(ValueError, match="seed"):
+        modal.shake_test(modal.Grid(), seed=1.5)

@@ -195,3 +195,27 @@ def test_report_html_is_self_contained():
     assert html.index('id="summary"') < html.index('id="tables"') < html.index('id="figures"')
     assert VERDICT_REPRODUCED in html and "<p>Hello.</p>" in html
     assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere
+
+
+def test_aggregate_matches_modes_across_real_poles():
+    # Seed 1 loses mode 1 to a real pole: by position its entries would mix
+    # modes; matched to the exact frequencies, every mode keeps its own values.
+    import modal.tables as mt
+
+    rows = []
+    exact = [2.0, 8.0, 18.0]
+    for seed, entries in ((0, [(2.01, False), (8.02, False), (18.1, False)]),
+                          (1, [(0.5, True), (7.98, False), (17.9, False)]),
+                          (2, [(1.99, False), (8.00, False), (18.0, False)])):
+        for mode, (omega, real) in enumerate(entries, start=1):
+            rows.append(dict(method="era", n=3, cols=100, seed=seed, mode=mode, omega=omega, real_pole=real,
+                             actual=exact[mode - 1], participating=3))
+    stats = mt.aggregate(pd.DataFrame(rows), first_seed=0).set_index("mode")
+    assert stats.loc[1, "reproduced"] == pytest.approx(2.0)
+    assert stats.loc[1, "missed_frac"] == pytest.approx(1 / 3)
+    assert stats.loc[2, "reproduced"] == pytest.approx((8.02 + 7.98 + 8.00) / 3)
+    assert stats.loc[3, "reproduced"] == pytest.approx((18.1 + 17.9 + 18.0) / 3)
+    assert set(stats["matched_by"]) == {"frequency"}
+    # the same entries without real poles: positions are stable, so positions are modes
+    clean = pd.DataFrame(rows).assign(real_pole=False)
+    assert set(mt.aggregate(clean, first_seed=0)["matched_by"]) == {"position"}

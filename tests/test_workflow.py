@@ -77,6 +77,7 @@ BAD_GRID = [
     ("grid.runs.era_m3.sets", 40, "grid.runs.era_m3: rows + cols = 136 exceeds the 102 samples"),
     ("grid.test.sensors", [0, 3, 25], "grid.test.sensors[2] = 25 is not a strip crossing"),
     ("grid.tables.13.runs.era m=3", "era_m9", "grid.tables.13.runs.era m=3 = 'era_m9'"),
+    ("tables.10", {"study": "demo", "case": "c1", "title": "x"}, "tables.10: table 10 is a grid table"),
 ]
 
 

@@ -3,7 +3,8 @@ from pathlib import Path
 
 # Results depend on the engine's code, not only on config: Snakemake does not
 # see edits to imported modules by itself.
-ENGINE = sorted(str(p) for p in Path("modal").rglob("*.py"))
+# Anchored on the Snakefile's folder, so it holds wherever snakemake is started.
+ENGINE = sorted(str(p) for p in (Path(workflow.basedir) / "modal").rglob("*.py"))
 
 
 def table_numbers():
