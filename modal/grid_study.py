@@ -16,7 +16,7 @@ from .experiment import pick_peaks, select_sharpest, sharpness, shake_test
 from .grid import THESIS_ESTIMATES_HZ, Grid
 from .io import load_record
 from .signals import lowpass_fft, split_record
-from .tables import aggregate, decimals, inclusion_holds
+from .tables import aggregate, decimals, inclusion_holds, match_to_reference
 from .tcm import tcm
 
 
@@ -207,11 +207,21 @@ def _stats(hz, case, run, n, mode, first_seed):
 
 
 def _mean_abs_err(identified, case, run, method, n=None):
-    rows = identified[(identified["case"] == case) & (identified["run"] == run) & (identified["mode"] <= 4)
-                      & ~identified["real_pole"].astype(bool)]
-    rows = rows[rows["n"] == (rows["n"].max() if n is None else n)]
-    err = np.abs(rows["freq_hz"] / rows["actual"] - 1)
-    return err.mean()
+    """Mean |f / f_true - 1| of the true modes 1-4, each seed's entries paired
+    with the true modes by :func:`modal.tables.match_to_reference` (so a real
+    pole or a missed mode shifts nothing); a mode missed in a seed counts as
+    a 100 % error."""
+    rows = identified[(identified["case"] == case) & (identified["run"] == run)]
+    rows = rows[rows["n"] == (rows["n"].max() if n is None else n)].assign(omega=lambda f: f["freq_hz"])
+    matched = match_to_reference(rows)
+    true = rows.groupby("mode")["actual"].first()
+    errors = []
+    for _, seed_rows in rows.groupby("seed"):
+        m = matched.reindex(seed_rows.index)
+        for mode in range(1, 5):
+            hit = seed_rows[m == mode]
+            errors.append(abs(hit["omega"].iloc[0] / true[mode] - 1) if len(hit) else 1.0)
+    return float(np.mean(errors))
 
 
 def grid_notes(number: int, table: pd.DataFrame, identified: pd.DataFrame, spec: Mapping,
@@ -236,7 +246,7 @@ def grid_notes(number: int, table: pd.DataFrame, identified: pd.DataFrame, spec:
         for method in ("tcm", "era"):
             run = tspec["runs"][method]
             raw, lp = _mean_abs_err(identified, "raw", run, method), _mean_abs_err(identified, "lp10", run, method)
-            notes.append(f"Finding 'filtering at 10 Hz improves the {method.upper()}': mean |error| of modes 1-4 "
+            notes.append(f"Finding 'filtering at 10 Hz improves the {method.upper()}': mean |error| of true modes 1-4 (missed = 100 %) "
                          f"{100 * raw:.1f} % raw -> {100 * lp:.1f} % filtered: "
                          f"{'reproduced' if lp < raw else 'not reproduced'}.")
     if number == 12:
