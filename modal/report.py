@@ -43,14 +43,12 @@ def table_notes(number: int, table: pd.DataFrame) -> list[str]:
                          + f"; reproduced real poles: {cells}.")
     if table["column"].str.startswith("n=").any():
         for interp, g in table.groupby("interpretation"):
-            by_n = {}
+            by_n, published = {}, {}
             for col, h in g[g["column"].str.startswith("n=")].groupby("column"):
-                vals = h.sort_values("mode")["reproduced"].to_numpy()
-                by_n[int(col[2:])] = vals[np.isfinite(vals)]
-            published = {}
-            for col, h in g[g["column"].str.startswith("n=")].groupby("column"):
-                vals = h.sort_values("mode")["published"].to_numpy()
-                published[int(col[2:])] = vals[np.isfinite(vals)]
+                h = h.sort_values("mode")
+                for values, column in ((by_n, "reproduced"), (published, "published")):
+                    vals = h[column].to_numpy()
+                    values[int(col[2:])] = vals[np.isfinite(vals)]
             notes.append(f"{interp}: inclusion principle (Eq. 20) over n = {min(by_n)}..{max(by_n)} "
                          f"{'holds' if inclusion_holds(by_n) else 'does not hold'} for the reproduced frequencies "
                          f"({'holds' if inclusion_holds(published) else 'does not hold'} for the published ones).")

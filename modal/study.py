@@ -122,7 +122,7 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
                     frames.append(_frame(result, case=case, damping=params["damping"], noise=params["noise"],
                                          method=method, n=n, cols=cols, seed=seed))
     out = pd.concat(frames, ignore_index=True)
-    exact = beam_record(beam_spec, 0.0).omega
+    exact = record.omega  # undamped frequencies: the same for every case
     out["actual"] = [exact[m - 1] if m <= exact.size else np.nan for m in out["mode"]]
     out["participating"] = exact.size
     return out
@@ -130,18 +130,15 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
 
 def _variants(study, method, settings, n_channels):
     """(n, cols, keyword arguments, channels) for each run of one method."""
-    settings = dict(settings)
     ns = study.get("n_identified") or [settings.get("n_modes", n_channels)]
+    base = settings.get("cols")
+    widths = [base] + ([c for c in study.get("cols_sweep", []) if c != base] if method == "cera" else [])
     for n in ns:
-        kwargs = dict(settings)
-        channels = None
+        kwargs, channels = dict(settings), None
         if study.get("n_identified"):
             if method == "tcm":
                 channels = list(range(n))
             else:
                 kwargs["n_modes"] = n
-        widths = study.get("cols_sweep", []) if method == "cera" else []
-        for cols in [kwargs.get("cols")] + [c for c in widths if c != kwargs.get("cols")]:
-            if cols is not None:
-                kwargs = {**kwargs, "cols": cols}
-            yield n, (cols if cols is not None else -1), kwargs, channels
+        for cols in widths:
+            yield n, (-1 if cols is None else cols), (kwargs if cols is None else {**kwargs, "cols": cols}), channels

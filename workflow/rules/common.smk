@@ -11,13 +11,13 @@ def table_numbers():
     return sorted(int(n) for n in config["tables"])
 
 
-def study_of_table(number):
-    return config["tables"][str(number)]["study"] if str(number) in config["tables"] else config["tables"][number]["study"]
-
-
 def table_spec(number):
     tables = config["tables"]
     return tables[str(number)] if str(number) in tables else tables[int(number)]
+
+
+def study_of_table(number):
+    return table_spec(number)["study"]
 
 
 def identified(study):
