@@ -59,15 +59,45 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
         )
     h_ext = hankel(y, rows + 1, cols, start)
     h0, h1 = h_ext[:-l], h_ext[l:]
-    # Thin SVD (Eq. 35) by LAPACK gesdd; numpy hands the C-ordered H(0) to
-    # LAPACK as its transpose without a copy, which scipy.linalg.svd does not.
-    u, sv, vt = np.linalg.svd(h0, full_matrices=False)
-    if sv[order - 1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
+    p, d, qt, sv = decompose(h0, order)
+    if d[-1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
         raise ValueError(
             f"n_modes = {n_modes}: the Hankel matrix has fewer than {order} non-zero "
             "singular values; the data cannot support that many modes"
         )
-    p, d, qt = u[:, :order], sv[:order], vt[:order]
+    return realise(p, d, qt, h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv)
+
+
+def decompose(h0, order):
+    """The ``order`` dominant singular triplets of ``H(0)`` (Eq. 35, Sec. 4.4).
+
+    Returns
+    -------
+    p : ndarray, shape (l r, order)
+        Leading left singular vectors ``P``.
+    d : ndarray, shape (order,)
+        Leading singular values ``D``, decreasing.
+    qt : ndarray, shape (order, m s)
+        Leading right singular vectors ``Q^T``.
+    singular_values : ndarray
+        Every singular value computed (all of them for the full SVD).
+    """
+    # Thin SVD (Eq. 35) by LAPACK gesdd; numpy hands the C-ordered H(0) to
+    # LAPACK as its transpose without a copy, which scipy.linalg.svd does not.
+    u, sv, vt = np.linalg.svd(h0, full_matrices=False)
+    return u[:, :order], sv[:order], vt[:order], sv
+
+
+def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None) -> ModalResult:
+    """Realize the state matrix from ``P D Q^T`` and ``H(1)`` and extract modes.
+
+    ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` and ``H = E_p^T P D^{1/2}``
+    (Eqs. 41, 43), ``Phi psi = psi z`` (Eq. 42), ``s = ln z / dt`` (Eq. 44,
+    j = 0), shapes ``E_p^T P D^{1/2} psi`` (Eq. 45). The model order is
+    ``len(d)``; truncating ``p``, ``d``, ``qt`` to their first columns gives
+    every lower order from one decomposition.
+    """
+    l, m = n_channels, n_sets
     d_isqrt = 1 / np.sqrt(d)
     phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]
     z, psi = np.linalg.eig(phi)  # Eq. (42)
@@ -98,6 +128,6 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
         real_pole=cols_["real_pole"],
         mamc=cols_["mamc"],
         mpc=cols_["mpc"],
-        singular_values=sv,
+        singular_values=d if singular_values is None else singular_values,
         eigenvalues=cols_["z"],
     )
