@@ -13,7 +13,7 @@ from .grid import Grid
 from .hankel import hankel
 from .io import load_record, save_record_npz, write_uff58
 from .indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
-from .result import ModalResult
+from .result import ModalResult, ModalWarning
 from .signals import amplitude_spectrum, integrate_acceleration, lowpass_fft, split_record
 from .simulate import Record, add_noise, beam_impulse_response, impulse_response, with_noise
 from .structures import SimplySupportedBeam
@@ -22,6 +22,7 @@ from .tcm import tcm
 __all__ = [
     "Grid",
     "ModalResult",
+    "ModalWarning",
     "Record",
     "ShakeTest",
     "SimplySupportedBeam",

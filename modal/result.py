@@ -8,6 +8,11 @@ import numpy as np
 import pandas as pd
 
 
+class ModalWarning(UserWarning):
+    """Every warning the engine issues (doubtful input or results), so users
+    can filter them with ``warnings.filterwarnings(..., category=ModalWarning)``."""
+
+
 def _nan(n: int) -> np.ndarray:
     return np.full(n, np.nan)
 
