@@ -69,11 +69,50 @@ def records(name: str, y) -> np.ndarray:
     """Return measurement data as ``(n_sets, n_samples, n_channels)``.
 
     Accepts ``(n_samples, n_channels)`` for one data set or
-    ``(n_sets, n_samples, n_channels)`` for several (Eq. 34's m).
+    ``(n_sets, n_samples, n_channels)`` for several (Eq. 34's m). A record
+    with fewer samples than channels or than data sets is refused: it is
+    almost always an array in another layout (channels first, or data sets on
+    the last axis). So is a channel that is constant in a data set (a dead or
+    disconnected sensor carries no response and makes the correlations
+    singular).
     """
     a = finite_array(name, y, ndim=(2, 3))
     if a.ndim == 2:
         a = a[np.newaxis]
-    if a.shape[1] < 2:
-        raise ValueError(f"{name} needs at least 2 samples per channel, got {a.shape[1]}")
+    n_sets, n_samples, n_channels = a.shape
+    if n_samples < 2:
+        raise ValueError(f"{name} needs at least 2 samples per channel, got {n_samples}")
+    if n_samples < n_channels or n_samples < n_sets:
+        raise ValueError(
+            f"{name} of shape {np.shape(y)} reads as {n_sets} data set(s) of {n_samples} samples "
+            f"and {n_channels} channels: fewer samples than channels or data sets. The layout is "
+            "(n_samples, n_channels) or (n_sets, n_samples, n_channels); transpose the array "
+            "(e.g. np.moveaxis(y, -1, 0) for data sets on the last axis)"
+        )
+    constant_channels(name, a)
     return a
+
+
+def constant_channels(name: str, a: np.ndarray) -> None:
+    """Refuse a channel that does not vary within a data set (``a`` as
+    ``(n_sets, n_samples, n_channels)``, or 2-D for one set)."""
+    sets = a if a.ndim == 3 else a[np.newaxis]
+    flat = np.ptp(sets, axis=1) == 0  # (n_sets, n_channels)
+    if flat.any():
+        k, c = np.argwhere(flat)[0]
+        where = f"channel {c}" + (f" of data set {k}" if sets.shape[0] > 1 else "")
+        raise ValueError(
+            f"{name}: {where} is constant ({sets[k, 0, c]!r}); a constant or all-zero channel "
+            "carries no vibration: remove it (a dead sensor, or a sensor at a node of every mode)"
+        )
+
+
+def unit_scale(a: np.ndarray) -> float:
+    """The power of two nearest the largest magnitude in ``a``.
+
+    The engine divides data by it before forming products, so results do not
+    depend on the data's units or scale (1e-160 or 1e+150 would underflow or
+    overflow in correlations); dividing by a power of two is exact.
+    """
+    peak = float(np.max(np.abs(a)))
+    return float(np.ldexp(1.0, int(np.frexp(peak)[1]))) if peak > 0 else 1.0

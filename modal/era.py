@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import positive_float, positive_int, records
+from ._checks import positive_float, positive_int, records, unit_scale
 from .hankel import hankel
 from .indicators import modal_amplitude_coherence, modal_phase_collinearity
-from .result import ModalResult, normalise_shapes, sort_modes
+from .result import UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
 
 #: |Im z| below this (relative to |z|) makes an eigenvalue a real pole.
 REAL_POLE_TOL = 1e-10
@@ -57,7 +57,8 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
             f"2 * n_modes = {order} exceeds the smaller dimension of the Hankel "
             f"matrix ({rows * l} x {cols * m}): reduce n_modes or enlarge rows/cols"
         )
-    h_ext = hankel(y, rows + 1, cols, start)
+    scale = unit_scale(y)
+    h_ext = hankel(y / scale, rows + 1, cols, start)
     h0, h1 = h_ext[:-l], h_ext[l:]
     p, d, qt, sv = decompose(h0, order)
     if d[-1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
@@ -65,7 +66,9 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
             f"n_modes = {n_modes}: the Hankel matrix has fewer than {order} non-zero "
             "singular values; the data cannot support that many modes"
         )
-    return realise(p, d, qt, h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv)
+    result = realise(p, d, qt, h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv * scale,
+                     window=(rows + cols) * dt)
+    return warn_flags(result, (rows + cols) * dt)
 
 
 def decompose(h0, order):
@@ -88,14 +91,15 @@ def decompose(h0, order):
     return u[:, :order], sv[:order], vt[:order], sv
 
 
-def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None) -> ModalResult:
+def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=np.inf) -> ModalResult:
     """Realize the state matrix from ``P D Q^T`` and ``H(1)`` and extract modes.
 
     ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` and ``H = E_p^T P D^{1/2}``
     (Eqs. 41, 43), ``Phi psi = psi z`` (Eq. 42), ``s = ln z / dt`` (Eq. 44,
     j = 0), shapes ``E_p^T P D^{1/2} psi`` (Eq. 45). The model order is
     ``len(d)``; truncating ``p``, ``d``, ``qt`` to their first columns gives
-    every lower order from one decomposition.
+    every lower order from one decomposition. ``window`` (s) is the span of
+    data behind the Hankel matrix, for the ``short_window`` flag.
     """
     l, m = n_channels, n_sets
     d_isqrt = 1 / np.sqrt(d)
@@ -117,8 +121,12 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None) -> Modal
         mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, m), nan=0.0)
     mpc = modal_phase_collinearity(complex_shapes)
 
+    unstable = np.abs(z) > 1 + UNSTABLE_TOL
+    aliased = near_limit(np.abs(s.imag), dt)
+
     omega, shapes, cols_ = sort_modes(
-        omega, normalise_shapes(complex_shapes), damping=damping, real_pole=real, mamc=mamc, mpc=mpc, z=z
+        omega, normalise_shapes(complex_shapes), damping=damping, real_pole=real, unstable=unstable,
+        aliased=aliased, mamc=mamc, mpc=mpc, z=z
     )
     return ModalResult(
         omega=omega,
@@ -126,6 +134,9 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None) -> Modal
         method="era",
         damping=cols_["damping"],
         real_pole=cols_["real_pole"],
+        unstable=cols_["unstable"],
+        aliased=cols_["aliased"],
+        short_window=short_window(omega, window),
         mamc=cols_["mamc"],
         mpc=cols_["mpc"],
         singular_values=d if singular_values is None else singular_values,

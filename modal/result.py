@@ -13,6 +13,22 @@ class ModalWarning(UserWarning):
     can filter them with ``warnings.filterwarnings(..., category=ModalWarning)``."""
 
 
+#: The per-mode flags of :class:`ModalResult`, each a reason to distrust an entry.
+FLAGS = ("real_pole", "unstable", "aliased", "short_window")
+
+#: Thesis guideline (Sec. 3.3): the data window spans at least six periods of
+#: the lowest mode, ``T >= 12 pi / omega_1``.
+GUIDELINE_PERIODS = 6
+
+#: ``|z|`` above ``1 + UNSTABLE_TOL`` flags an ERA pole unstable; round-off
+#: puts exactly undamped poles at ``|z| = 1 +- 1e-14``.
+UNSTABLE_TOL = 1e-9
+
+#: A frequency within this fraction of the method's limit ``pi / T_o`` is
+#: flagged as possibly aliased.
+ALIAS_MARGIN = 0.02
+
+
 def _nan(n: int) -> np.ndarray:
     return np.full(n, np.nan)
 
@@ -35,6 +51,17 @@ class ModalResult:
         True where the identified eigenvalue is real (ERA) or does not map to
         an oscillation (TCM/CERA eigenvalue outside the admissible range); such
         entries are kept, flagged, never silently dropped.
+    unstable : ndarray of bool
+        ERA: ``|z| > 1``, a growing "mode" (negative damping); a computational
+        or noise pole, not a structural mode.
+    aliased : ndarray of bool
+        Possibly aliased: the frequency lies at or beyond the highest one the
+        method can tell apart, ``pi / T_o`` (``T_o = lag dt`` for the TCM with a
+        lag, Eq. 30; ``dt`` for ERA and CERA), so it may be folded back from
+        above.
+    short_window : ndarray of bool
+        The data window holds fewer than six periods of this mode, the
+        thesis's guideline ``T >= 12 pi / omega_1`` (Sec. 3.3): expect a bias.
     mamc, mpc : ndarray
         Modal amplitude coherence and modal phase collinearity (ERA), NaN otherwise.
     singular_values : ndarray
@@ -52,6 +79,9 @@ class ModalResult:
     method: str
     damping: np.ndarray | None = None
     real_pole: np.ndarray | None = None
+    unstable: np.ndarray | None = None
+    aliased: np.ndarray | None = None
+    short_window: np.ndarray | None = None
     mamc: np.ndarray | None = None
     mpc: np.ndarray | None = None
     singular_values: np.ndarray = field(default_factory=lambda: np.empty(0))
@@ -62,8 +92,9 @@ class ModalResult:
         for name in ("damping", "mamc", "mpc"):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, _nan(n))
-        if self.real_pole is None:
-            object.__setattr__(self, "real_pole", np.zeros(n, dtype=bool))
+        for name in FLAGS:
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, np.zeros(n, dtype=bool))
 
     @property
     def n_modes(self) -> int:
@@ -75,8 +106,9 @@ class ModalResult:
         return self.omega / (2 * np.pi)
 
     def to_frame(self) -> pd.DataFrame:
-        """One row per identified mode: mode, omega, freq_hz, damping, real_pole,
-        mamc, mpc, and the shape entries as ``phi_1 ... phi_l``."""
+        """One row per identified mode: mode, omega, freq_hz, damping, the flags
+        real_pole, unstable, aliased, short_window, then mamc, mpc, and the shape
+        entries as ``phi_1 ... phi_l``."""
         frame = pd.DataFrame(
             {
                 "mode": np.arange(1, self.n_modes + 1),
@@ -84,7 +116,7 @@ class ModalResult:
                 "omega": self.omega,
                 "freq_hz": self.freq_hz,
                 "damping": self.damping,
-                "real_pole": self.real_pole,
+                **{name: getattr(self, name) for name in FLAGS},
                 "mamc": self.mamc,
                 "mpc": self.mpc,
             }
@@ -116,3 +148,34 @@ def sort_modes(omega, shapes, **columns):
     order = np.argsort(omega, kind="stable")
     out = {k: (None if v is None else np.asarray(v)[order]) for k, v in columns.items()}
     return np.asarray(omega)[order], np.asarray(shapes)[:, order], out
+
+
+def short_window(omega, window) -> np.ndarray:
+    """True where a window of ``window`` seconds holds fewer than
+    :data:`GUIDELINE_PERIODS` periods of ``omega`` (rad/s)."""
+    return np.asarray(omega) * window < 2 * np.pi * GUIDELINE_PERIODS
+
+
+def near_limit(omega, t_o) -> np.ndarray:
+    """True where ``omega`` is at or beyond ``(1 - ALIAS_MARGIN) pi / t_o``."""
+    return np.asarray(omega) * t_o >= (1 - ALIAS_MARGIN) * np.pi
+
+
+def warn_flags(result: ModalResult, window: float) -> ModalResult:
+    """Issue one :class:`ModalWarning` naming the flagged entries of ``result``
+    (real poles are routine and only counted), and return ``result``."""
+    import warnings
+
+    notes = []
+    for name, what in (
+        ("unstable", "unstable (|z| > 1)"),
+        ("aliased", "possibly aliased"),
+        ("short_window", f"short window ({window:.4g} s holds fewer than {GUIDELINE_PERIODS} periods)"),
+    ):
+        flagged = np.flatnonzero(getattr(result, name))
+        if flagged.size:
+            freqs = ", ".join(f"{w:.4g}" for w in result.omega[flagged])
+            notes.append(f"{what}: omega = {freqs} rad/s")
+    if notes:
+        warnings.warn(f"{result.method}: " + "; ".join(notes) + " (see the result's flags)", ModalWarning, stacklevel=3)
+    return result

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ._checks import finite_array, positive_float, positive_int
-from .result import ModalResult, normalise_shapes, sort_modes
-from .signals import integrate_acceleration
+from ._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
+from .result import ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .signals import acceleration_offset, integrate_acceleration
 
 
 def correlation(a, b) -> np.ndarray:
@@ -22,7 +22,9 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     ``lag == 0`` (Eq. 31, k = 2, m = 1, T_o = 0):
     ``A = <v, v^T>`` from velocities, ``B = <a, a^T>`` from accelerations,
     ``lambda A x = B x`` (Eq. 26), ``omega = sqrt(lambda)``. When ``vel`` is not
-    given it is integrated from ``acc`` (:func:`modal.signals.integrate_acceleration`).
+    given it is integrated from ``acc`` (:func:`modal.signals.integrate_acceleration`),
+    and the accelerometers' offset it estimates is removed from ``acc`` in
+    ``B`` too.
 
     ``lag > 0`` (Eq. 30, k = m, T_o = lag dt): one signal ``y = acc``,
     ``A = <y(t), y^T(t)>`` and ``B = <y(t + T_o), y^T(t)>`` over the same
@@ -30,6 +32,16 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
 
     Mode shapes are ``A v_r`` (Eq. 28: ``v_r = M x_r``, and ``A`` plays ``M``
     up to a diagonal modal scaling), normalised.
+
+    Flags: ``short_window`` where the inner products span fewer than six
+    periods of the mode (the thesis's guideline ``T >= 12 pi / omega_1``,
+    Sec. 3.3); with a lag, ``aliased`` where the mode lies at or beyond
+    ``pi / T_o``, above which Eq. (30)'s ``acos`` folds frequencies back. That
+    is judged on the mode itself and on the lag-one Rayleigh quotient of its
+    eigenvector, ``omega_1 = acos(v^T B_1 v / v^T A v) / dt``, which can see up
+    to the Nyquist frequency. A :class:`~modal.ModalWarning` names flagged
+    modes. The signals are divided by a power of two near the peak of ``acc``
+    first, so results do not depend on units or scale.
 
     Parameters
     ----------
@@ -42,7 +54,8 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
         default ``l``. The eigenproblem is always ``l x l``: to identify ``n``
         modes as the thesis does, pass ``n`` sensors.
     vel : array_like, shape (n_samples, l), optional
-        Velocities for ``A`` when ``lag == 0``.
+        Velocities for ``A`` when ``lag == 0`` (refused with a lag: Eq. 30
+        uses one signal).
     lag : int
         Time offset ``T_o`` in samples.
     duration : float, optional
@@ -63,27 +76,47 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     if n_modes > l:
         raise ValueError(f"n_modes = {n_modes} exceeds the {l} channels; the TCM needs one sensor per mode")
     if vel is not None:
+        if lag > 0:
+            raise ValueError(
+                f"vel is used only with lag = 0 (Eq. 31); with lag = {lag} the TCM takes one signal "
+                "(Eq. 30): pass the signal as acc and leave vel out"
+            )
         vel = finite_array("vel", vel, ndim=(2,))
         if vel.shape != acc.shape:
             raise ValueError(f"vel must have the shape of acc {acc.shape}, got {vel.shape}")
+        constant_channels("vel", vel)
+    if n_samples < l:
+        raise ValueError(
+            f"acc of shape {acc.shape} has fewer samples than channels; the layout is "
+            "(n_samples, n_channels): transpose it"
+        )
+    constant_channels("acc", acc)
     if duration is not None:
         duration = positive_float("duration", duration)
         n_samples = min(n_samples, int(round(duration / dt)) + 1)
     needed = max(lag + l + 1, 3)
     if n_samples < needed:
         raise ValueError(f"too few samples ({n_samples}) for {l} channels and lag {lag}: need at least {needed}")
-    acc = acc[:n_samples]
+    scale = unit_scale(acc)
+    acc = acc[:n_samples] / scale
 
     if lag == 0:
-        if vel is None:
+        if vel is None:  # the offset integrates into a ramp and biases B as well
+            acc = acc - acceleration_offset(acc, dt)
             vel = integrate_acceleration(acc, dt)
-        a = correlation(vel[:n_samples], vel[:n_samples])
+        else:
+            vel = vel[:n_samples] / scale
+        a = correlation(vel, vel)
         b = correlation(acc, acc)
+        window = n_samples * dt
     else:
         early, late = acc[: n_samples - lag], acc[lag:]
         a = correlation(early, early)
         b = correlation(late, early)
         b = (b + b.T) / 2
+        b_one = correlation(acc[1 : n_samples - lag + 1], early)
+        b_one = (b_one + b_one.T) / 2
+        window = (n_samples - lag) * dt
     a_eig = np.linalg.eigvalsh(a)
     if a_eig[0] <= a_eig[-1] * 1e-13:
         raise ValueError("the correlation matrix A is singular: the channels are linearly dependent")
@@ -91,16 +124,25 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     if lag == 0:
         bad = lam < 0
         omega = np.sqrt(np.abs(lam))  # Eq. (31)
+        aliased = np.zeros(l, dtype=bool)
     else:
         bad = np.abs(lam) > 1
         omega = np.arccos(np.clip(lam, -1, 1)) / (lag * dt)  # Eq. (30)
+        # v is A-orthonormal (scipy.linalg.eigh), so v^T A v = 1
+        lam_one = np.einsum("ir,ij,jr->r", v, b_one, v)
+        omega_one = np.arccos(np.clip(lam_one, -1, 1)) / dt
+        aliased = near_limit(omega, lag * dt) | near_limit(omega_one, lag * dt)
     shapes = normalise_shapes(a @ v)  # Eq. (28)
-    omega, shapes, cols = sort_modes(omega, shapes, real_pole=bad, lam=lam)
-    return ModalResult(
-        omega=omega[:n_modes],
-        shapes=shapes[:, :n_modes],
+    omega, shapes, cols = sort_modes(omega, shapes, real_pole=bad, aliased=aliased, lam=lam)
+    keep = slice(0, n_modes)
+    result = ModalResult(
+        omega=omega[keep],
+        shapes=shapes[:, keep],
         method="tcm",
-        real_pole=cols["real_pole"][:n_modes],
-        singular_values=a_eig[::-1],
-        eigenvalues=cols["lam"][:n_modes],
+        real_pole=cols["real_pole"][keep],
+        aliased=cols["aliased"][keep],
+        short_window=short_window(omega[keep], window),
+        singular_values=a_eig[::-1] * scale**2,
+        eigenvalues=cols["lam"][keep],
     )
+    return warn_flags(result, window)
