@@ -7,7 +7,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 import scipy.linalg
-import yaml
 from scipy.integrate import solve_ivp
 
 import modal
@@ -21,7 +20,6 @@ from modal.experiment import (
 )
 from modal.grid import THESIS_ESTIMATES_HZ, Grid
 
-CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
 
 
 @pytest.fixture(scope="module")
@@ -86,18 +84,6 @@ def test_crossings_and_dofs(grid):
     clamped = int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])
     with pytest.raises(ValueError, match="clamped"):
         grid.dof(clamped)
-
-
-def test_config_block_matches_the_defaults():
-    # the workflow's grid is the tuned model (the defaults), shaken as shake_test's defaults say
-    block = yaml.safe_load(CONFIG.read_text())["grid"]
-    assert Grid(**block["model"]) == Grid()
-    defaults = {k: p.default for k, p in inspect.signature(shake_test).parameters.items()}
-    for key, value in block["test"].items():
-        if key == "noise":
-            continue
-        expected = defaults[key]
-        assert (list(expected) if isinstance(expected, tuple) else expected) == value, key
 
 
 # ---------------------------------------------------------------- time integration

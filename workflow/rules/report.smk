@@ -1,7 +1,7 @@
 # Report notebooks (papermill) and the reproduction report (one HTML file).
 #
 # Each notebook reads the workflow's outputs and displays them; it computes
-# nothing the engine computes (summary verdicts come from modal.report).
+# nothing the engine computes (summary verdicts come from modal.thesis.report).
 # Inputs are the files each notebook reads, so a changed table re-executes
 # only the notebooks that show it. The file lists (NOTEBOOKS, notebook_inputs,
 # report_outputs, ...) live in common.smk: snakemake --lint wants rules and

@@ -3,7 +3,7 @@ import sys
 
 import numpy as np
 
-import modal.grid_study as gs
+import modal.thesis.grid_study as gs
 
 sys.stderr = open(snakemake.log[0], "w")
 spec = snakemake.params.spec

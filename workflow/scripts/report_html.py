@@ -6,7 +6,7 @@ from pathlib import Path
 
 import yaml
 
-import modal.report
+import modal.thesis.report
 
 sys.stderr = open(snakemake.log[0], "w")
 captions = yaml.safe_load(Path(snakemake.input.captions).read_text())
@@ -20,8 +20,8 @@ def numbered(prefix, suffix):
 csvs, mds, pngs = numbered("table", r"\.csv"), numbered("table", r"\.md"), numbered("figure", r"\.png")
 tables = {}
 for number, path in csvs.items():
-    tables.update(modal.report.load_tables(path.parent, numbers={number}))
-summary = modal.report.reproduction_summary(tables)
+    tables.update(modal.thesis.report.load_tables(path.parent, numbers={number}))
+summary = modal.thesis.report.reproduction_summary(tables)
 # every thesis table and figure has a place; those not produced are listed as missing
 table_md = {n: (mds[n].read_text() if n in mds else None) for n in sorted(set(captions["tables"]) | set(mds))}
 figures = {n: (pngs[n].read_bytes() if n in pngs else None) for n in sorted(set(captions["figures"]) | set(pngs))}
@@ -30,6 +30,6 @@ cera = [f for f in files if f.name == "cera_sensitivity.png"]
 if cera:
     extras.append(("CERA sensitivity to the Hankel width s", None, cera[0].read_bytes(),
                    captions["extras"]["cera_sensitivity"]))
-html = modal.report.report_html(summary, table_md, figures, captions["figures"], extras,
+html = modal.thesis.report.report_html(summary, table_md, figures, captions["figures"], extras,
                                 title="Reproduction report", intro=Path(snakemake.input.intro).read_text())
 Path(snakemake.output[0]).write_text(html)

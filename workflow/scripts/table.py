@@ -3,16 +3,16 @@ import sys
 
 import pandas as pd
 
-import modal.tables
-import modal.report
+import modal.thesis.tables
+import modal.thesis.report
 
 sys.stderr = open(snakemake.log[0], "w")
 number = int(snakemake.wildcards.number)
-published = modal.tables.read_published(snakemake.input.published)
+published = modal.thesis.tables.read_published(snakemake.input.published)
 identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
-table = modal.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
+table = modal.thesis.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
                              snakemake.params.methods, snakemake.params.first_seed)
 table.to_csv(snakemake.output.csv, index=False)
-notes = modal.report.table_notes(number, table)
+notes = modal.thesis.report.table_notes(number, table)
 with open(snakemake.output.md, "w") as fh:
-    fh.write(modal.tables.to_markdown(table, f"Table {number}. {snakemake.params.spec['title']}", notes))
+    fh.write(modal.thesis.tables.to_markdown(table, f"Table {number}. {snakemake.params.spec['title']}", notes))

@@ -161,7 +161,7 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
     ----------
     tables : dict
         Table number -> the tidy comparison (``results/tables/table_NN.csv``,
-        as written by :func:`modal.tables.compare`). Needs the columns
+        as written by :func:`modal.thesis.tables.compare`). Needs the columns
         ``mode, method, column, printed, published, flag, reproduced, std,
         n_seeds, z, rel_dev, printed_match`` (``interpretation``,
         ``seed0_real_pole`` and ``real_pole_frac`` when present).

@@ -12,7 +12,7 @@ import nbformat
 import papermill as pm
 import pytest
 
-from conftest import ROOT, run_snakemake
+from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake
 
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 NAMES = ["00_summary", "01_method_demo", "02_noise_study", "03_spillover", "04_cera", "05_grid"]
@@ -150,7 +150,7 @@ def test_failing_notebook_keeps_its_traceback(small_workflow):
         nb.cells.append(nbformat.v4.new_code_cell("raise RuntimeError('deliberate failure')"))
         nbformat.write(nb, path)
         # the target goes before --configfile, which takes several values
-        proc = run_snakemake(small_workflow, str(out.relative_to(small_workflow)), "--configfile", "small.yaml",
+        proc = run_snakemake(small_workflow, str(out.relative_to(small_workflow)), "--configfile", SMALL_CONFIG_FILE,
                              check=False)
         assert proc.returncode != 0
         assert "Error in rule notebook" in proc.stdout + proc.stderr
@@ -160,5 +160,5 @@ def test_failing_notebook_keeps_its_traceback(small_workflow):
         assert errors and errors[0].evalue == "deliberate failure" and errors[0].traceback
     finally:
         path.write_bytes(good)
-    run_snakemake(small_workflow, str(out.relative_to(small_workflow)), "--configfile", "small.yaml")
+    run_snakemake(small_workflow, str(out.relative_to(small_workflow)), "--configfile", SMALL_CONFIG_FILE)
     assert not [o for o in outputs(nbformat.read(out, as_version=4)) if o.output_type == "error"]

@@ -1,19 +1,19 @@
-"""modal.report's reproduction summary, its Markdown, the Markdown -> HTML
+"""modal.thesis.report's reproduction summary, its Markdown, the Markdown -> HTML
 converter and the self-contained HTML report, on small hand-made frames."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-import modal.report as report
-from modal.report import VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
+import modal.thesis.report as report
+from modal.thesis.report import VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
 
 PNG = b"\x89PNG\r\n\x1a\n" + b"\x00" * 16
 
 
 def row(mode, method, published, reproduced, interpretation="named", std=0.0, n_seeds=1, column="", flag="",
         printed=None, seed0_real_pole=False, real_pole_frac=0.0):
-    """One tidy row as modal.tables.compare writes it (printed_match, z, rel_dev derived the same way)."""
+    """One tidy row as modal.thesis.tables.compare writes it (printed_match, z, rel_dev derived the same way)."""
     if printed is None:
         printed = "-----" if flag == "absent" else "*" if flag == "real_pole" else f"{published:.4f}"
     digits = len(printed.split(".")[1]) if "." in printed else 0
@@ -200,7 +200,7 @@ def test_report_html_is_self_contained():
 def test_aggregate_matches_modes_across_real_poles():
     # Seed 1 loses mode 1 to a real pole: by position its entries would mix
     # modes; matched to the exact frequencies, every mode keeps its own values.
-    import modal.tables as mt
+    import modal.thesis.tables as mt
 
     rows = []
     exact = [2.0, 8.0, 18.0]

@@ -11,13 +11,13 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from .era import era
-from .experiment import pick_peaks, select_sharpest, sharpness, shake_test
-from .grid import THESIS_ESTIMATES_HZ, Grid
-from .io import load_record
-from .signals import lowpass_fft, split_record
+from ..era import era
+from ..experiment import pick_peaks, select_sharpest, sharpness, shake_test
+from ..grid import THESIS_ESTIMATES_HZ, Grid
+from ..io import load_record
+from ..signals import lowpass_fft, split_record
 from .tables import aggregate, decimals, inclusion_holds, match_to_reference
-from .tcm import tcm
+from ..tcm import tcm
 
 
 @dataclass(frozen=True)
@@ -208,7 +208,7 @@ def _stats(hz, case, run, n, mode, first_seed):
 
 def _mean_abs_err(identified, case, run, method, n=None):
     """Mean |f / f_true - 1| of the true modes 1-4, each seed's entries paired
-    with the true modes by :func:`modal.tables.match_to_reference` (so a real
+    with the true modes by :func:`modal.thesis.tables.match_to_reference` (so a real
     pole or a missed mode shifts nothing); a mode missed in a seed counts as
     a 100 % error."""
     rows = identified[(identified["case"] == case) & (identified["run"] == run)]

@@ -129,7 +129,7 @@ def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spe
         Rows of ``thesis_tables.csv`` for this table.
     identified : mapping
         Interpretation name -> identified modes of the study (see
-        :func:`modal.study.run_study`).
+        :func:`modal.thesis.study.run_study`).
     spec : mapping
         ``case`` (the study's case) for Tables 1-4, 7-9; spillover tables
         (5, 6) take ``method`` and read ``n`` from the published column.

@@ -11,9 +11,11 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
-import modal.config
+import modal.thesis.config
 
-from conftest import ROOT, SMALL_CONFIG as SMALL, run_snakemake as snakemake
+from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake
+
+SMALL = yaml.safe_load((ROOT / SMALL_CONFIG_FILE).read_text())
 
 SCHEMA = str(ROOT / "workflow/schemas/config.schema.yaml")
 
@@ -25,14 +27,14 @@ def base_config():
 @pytest.fixture(scope="module")
 def workdir(small_workflow):
     """A copy of the workflow in a temporary directory with a small config
-    (conftest.small_workflow, shared with the notebook tests)."""
+    (tests/workflow/conftest.small_workflow, shared with the notebook tests)."""
     return small_workflow
 
 
 def test_config_is_valid():
     config = base_config()
     validate(config, SCHEMA)
-    modal.config.check(config)
+    modal.thesis.config.check(config)
 
 
 def _set(config, path, value):
@@ -93,7 +95,7 @@ def test_semantic_check_rejects(path, value, message):
     config = _set(copy.deepcopy(base_config()), path, value)
     validate(config, SCHEMA)
     with pytest.raises(ValueError, match=re.escape(message)):
-        modal.config.check(config)
+        modal.thesis.config.check(config)
 
 
 def test_invalid_config_stops_before_any_job(workdir, tmp_path):
@@ -143,13 +145,13 @@ def test_spillover_inclusion_note(workdir):
 
 def test_rerun_gives_identical_tables(workdir):
     before = {p.name: p.read_bytes() for p in (workdir / "results/tables").glob("*.csv")}
-    snakemake(workdir, "--configfile", "small.yaml", "--forceall")
+    snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forceall")
     after = {p.name: p.read_bytes() for p in (workdir / "results/tables").glob("*.csv")}
     assert before == after
 
 
 def test_nothing_to_do_when_up_to_date(workdir):
-    proc = snakemake(workdir, "--configfile", "small.yaml", "-n")
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "-n")
     assert "Nothing to be done" in proc.stdout + proc.stderr
 
 
@@ -173,13 +175,13 @@ def test_failed_job_leaves_no_table_and_rerun_recovers(workdir):
         ident.write_text("not,a\nvalid,identified,table\n")
         table.unlink()
         # the target goes before --configfile, which takes several values
-        proc = snakemake(workdir, "results/tables/table_01.csv", "--configfile", "small.yaml", check=False)
+        proc = snakemake(workdir, "results/tables/table_01.csv", "--configfile", SMALL_CONFIG_FILE, check=False)
         assert proc.returncode != 0
         assert "Error in rule table" in proc.stdout + proc.stderr
         assert not table.exists()
     finally:
         ident.write_bytes(good)
-    snakemake(workdir, "--configfile", "small.yaml", "--rerun-incomplete", "results/tables/table_01.csv")
+    snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--rerun-incomplete", "results/tables/table_01.csv")
     assert table.exists()
 
 
