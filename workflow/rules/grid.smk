@@ -1,12 +1,13 @@
 # Chapter 7: the grid experiment. One job shakes the virtual grid once per seed
-# (or reads the measured record) and runs every identification of Tables
-# 10-15; tables and figures read its files.
+# (or reads the measured record) and runs every identification of the grid
+# tables; tables and figures read its files. Table and figure numbers come
+# from config (grid.tables, grid.figures).
 
 
 rule grid_identify:
     input:
-        ENGINE,
-        grid_inputs(),
+        code=ENGINE + GRID_CODE,
+        record=grid_inputs(),
     output:
         identified="results/grid/identified.csv",
         selection="results/grid/selection.csv",
@@ -15,24 +16,32 @@ rule grid_identify:
         spec=config.get("grid"),
     log:
         "results/logs/grid_identify.log",
+    benchmark:
+        "results/benchmarks/grid_identify.tsv"
     script:
         "../scripts/grid_identify.py"
 
 
 rule grid_table:
     input:
-        ENGINE,
+        code=GRID_TABLE_CODE,
         published=config["published"],
         identified="results/grid/identified.csv",
         selection="results/grid/selection.csv",
     output:
-        csv="results/tables/table_{number}.csv",
+        csv=report(
+            "results/tables/table_{number}.csv",
+            caption="../report/table.rst",
+            category="Tables",
+            labels={"table": "{number}"},
+        ),
         md="results/tables/table_{number}.md",
+        notes="results/notes/table_{number}.txt",
     params:
         spec=config.get("grid"),
         first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
     wildcard_constraints:
-        number="1[0-5]",
+        number=grid_table_pattern(),
     log:
         "results/logs/table_{number}.log",
     script:
@@ -41,14 +50,19 @@ rule grid_table:
 
 rule grid_figures:
     input:
-        ENGINE,
+        code=GRID_PLOT_CODE,
         record="results/grid/record_first_seed.npz",
         selection="results/grid/selection.csv",
     output:
-        figure_files(GRID_FIGURES),
+        report(
+            figure_files(grid_figures()),
+            caption="../report/figure.rst",
+            category="Figures",
+            subcategory="Grid",
+        ),
     params:
         spec=config.get("grid"),
-        cutoff=config.get("grid", {}).get("figures_cutoff_hz", 10.0),
+        captions=FIGURE_CAPTIONS,
     log:
         "results/logs/grid_figures.log",
     script:
