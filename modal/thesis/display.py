@@ -97,8 +97,11 @@ class Results:
         frame = self.summary(numbers)
         if frame is None:
             return None
-        _display(frame[["table", "title", "interpretation", "n_match", "n_compared", "n_within_noise",
-                        "max_abs_rel_dev", "worst", "verdict", "why"]].style.hide(axis="index"))
+        from IPython.display import HTML
+
+        shown = frame[["table", "title", "interpretation", "n_match", "n_compared", "n_within_noise",
+                       "max_abs_rel_dev", "worst", "verdict", "why"]]
+        _display(HTML(shown.style.hide(axis="index").format(na_rep="", precision=4).to_html()))
         if definitions:
             markdown("\n".join(f"- {d}" for d in VERDICT_DEFINITIONS))
         return frame

@@ -8,15 +8,15 @@ rule identify:
         code=ENGINE + STUDY_CODE,
     output:
         "results/identified/{study}_{interpretation}.csv",
+    log:
+        "results/logs/identify_{study}_{interpretation}.log",
+    benchmark:
+        "results/benchmarks/identify_{study}_{interpretation}.tsv"
     params:
         study=lambda w: config["studies"][w.study],
         beam=lambda w: config["beams"][config["studies"][w.study]["beam"]],
         signals=lambda w: config["interpretations"][w.interpretation],
         seeds=config["seeds"],
-    log:
-        "results/logs/identify_{study}_{interpretation}.log",
-    benchmark:
-        "results/benchmarks/identify_{study}_{interpretation}.tsv"
     script:
         "../scripts/identify.py"
 
@@ -35,17 +35,19 @@ rule table:
         ),
         md="results/tables/table_{number}.md",
         notes="results/notes/table_{number}.txt",
+    log:
+        "results/logs/table_{number}.log",
+    wildcard_constraints:
+        number=beam_table_pattern(),
     params:
         spec=lambda w: table_spec(int(w.number)),
-        methods=lambda w: config["studies"][table_spec(int(w.number))["study"]]["methods"],
+        methods=lambda w: config["studies"][table_spec(int(w.number))["study"]][
+            "methods"
+        ],
         interpretations=lambda w: config["studies"][
             table_spec(int(w.number))["study"]
         ]["interpretations"],
         first_seed=config["seeds"]["first"],
-    wildcard_constraints:
-        number=beam_table_pattern(),
-    log:
-        "results/logs/table_{number}.log",
     script:
         "../scripts/table.py"
 
@@ -61,14 +63,14 @@ rule shape_figures:
             category="Figures",
             subcategory="Mode shapes",
         ),
+    log:
+        "results/logs/shape_figures.log",
     params:
         figures=config["shape_figures"],
         captions=FIGURE_CAPTIONS,
         beam=config["beams"][config["studies"]["demo"]["beam"]],
         interpretations=config["studies"]["demo"]["interpretations"],
         first_seed=config["seeds"]["first"],
-    log:
-        "results/logs/shape_figures.log",
     script:
         "../scripts/shape_figures.py"
 
@@ -84,13 +86,13 @@ rule noise_figures:
             category="Figures",
             subcategory="Noise",
         ),
+    log:
+        "results/logs/noise_figures.log",
     params:
         figures=config["noise_figures"],
         captions=FIGURE_CAPTIONS,
         interpretations=config["studies"]["noise"]["interpretations"],
         first_seed=config["seeds"]["first"],
-    log:
-        "results/logs/noise_figures.log",
     script:
         "../scripts/noise_figures.py"
 
@@ -106,11 +108,11 @@ rule cera_sensitivity:
             caption="../report/cera_sensitivity.rst",
             category="Beyond the thesis",
         ),
+    log:
+        "results/logs/cera_sensitivity.log",
     params:
         interpretations=config["studies"]["cera"]["interpretations"],
         first_seed=config["seeds"]["first"],
         title=EXTRA_CAPTIONS["cera_sensitivity"],
-    log:
-        "results/logs/cera_sensitivity.log",
     script:
         "../scripts/cera_sensitivity.py"

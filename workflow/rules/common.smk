@@ -16,10 +16,16 @@ def code(*names):
 
 
 # The engine: every top-level module of modal (numerics, no thesis layer).
-ENGINE = sorted(os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py"))
+ENGINE = sorted(
+    os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
+)
 STUDY_CODE = code("modal/thesis/__init__.py", "modal/thesis/study.py")
-GRID_CODE = code("modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py")
-TABLE_CODE = code("modal/thesis/__init__.py", "modal/thesis/tables.py", "modal/thesis/report.py")
+GRID_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
+)
+TABLE_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/tables.py", "modal/thesis/report.py"
+)
 GRID_TABLE_CODE = code("modal/grid.py") + GRID_CODE + code("modal/thesis/report.py")
 PLOT_CODE = code(
     "modal/thesis/__init__.py",
@@ -31,8 +37,12 @@ PLOT_CODE = code(
 )
 GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
 SUMMARY_CODE = TABLE_CODE
-NOTEBOOK_CODE = code("modal/thesis/__init__.py", "modal/thesis/display.py", "modal/thesis/report.py")
-REPORT_CODE = code("modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py")
+NOTEBOOK_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/display.py", "modal/thesis/report.py"
+)
+REPORT_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py"
+)
 REPORT_TEMPLATES = code("workflow/report/report.html.j2", "workflow/report/report.css")
 CAPTIONS = "workflow/report/captions.yaml"
 
@@ -108,7 +118,9 @@ def noisy_tables():
     out = []
     for n in table_numbers():
         spec = table_spec(n)
-        case = config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
+        case = (
+            config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
+        )
         if case.get("noise", 0) > 0:
             out.append(n)
     return out
@@ -165,7 +177,11 @@ NOTEBOOK_PATHS = {
 
 def notebook_parameters(name):
     """Paths, and for the grid notebook the grid's table and figure numbers."""
-    return {**NOTEBOOK_PATHS, "table_numbers": grid_tables(), "figure_numbers": grid_figures()}
+    return {
+        **NOTEBOOK_PATHS,
+        "table_numbers": grid_tables(),
+        "figure_numbers": grid_figures(),
+    }
 
 
 def all_tables():
@@ -173,12 +189,21 @@ def all_tables():
 
 
 def notebook_inputs(name):
-    """The workflow outputs a notebook reads."""
+    """The workflow outputs a notebook reads: the summary (its verdicts) and
+    the tables, notes and figures of its chapter."""
+    return [SUMMARY] + chapter_outputs(name)
+
+
+def chapter_outputs(name):
     if name == "00_summary":
-        return [SUMMARY]
+        return []
     if name == "01_method_demo":
         numbers_ = tables_of("demo")
-        return table_files(numbers_) + note_files(numbers_) + figure_files(numbers(config["shape_figures"]))
+        return (
+            table_files(numbers_)
+            + note_files(numbers_)
+            + figure_files(numbers(config["shape_figures"]))
+        )
     if name == "02_noise_study":
         return (
             figure_files(numbers(config["noise_figures"]))
@@ -189,7 +214,11 @@ def notebook_inputs(name):
     if name == "03_spillover":
         return table_files(tables_of("spillover")) + note_files(tables_of("spillover"))
     if name == "04_cera":
-        return table_files(tables_of("cera")) + note_files(tables_of("cera")) + cera_sensitivity_files()
+        return (
+            table_files(tables_of("cera"))
+            + note_files(tables_of("cera"))
+            + cera_sensitivity_files()
+        )
     if name == "05_grid":
         return grid_outputs() + note_files(grid_tables())
     raise ValueError(f"unknown notebook {name!r}")

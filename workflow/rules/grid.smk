@@ -12,12 +12,12 @@ rule grid_identify:
         identified="results/grid/identified.csv",
         selection="results/grid/selection.csv",
         record="results/grid/record_first_seed.npz",
-    params:
-        spec=config.get("grid"),
     log:
         "results/logs/grid_identify.log",
     benchmark:
         "results/benchmarks/grid_identify.tsv"
+    params:
+        spec=config.get("grid"),
     script:
         "../scripts/grid_identify.py"
 
@@ -37,13 +37,13 @@ rule grid_table:
         ),
         md="results/tables/table_{number}.md",
         notes="results/notes/table_{number}.txt",
+    log:
+        "results/logs/table_{number}.log",
+    wildcard_constraints:
+        number=grid_table_pattern(),
     params:
         spec=config.get("grid"),
         first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
-    wildcard_constraints:
-        number=grid_table_pattern(),
-    log:
-        "results/logs/table_{number}.log",
     script:
         "../scripts/grid_table.py"
 
@@ -60,10 +60,10 @@ rule grid_figures:
             category="Figures",
             subcategory="Grid",
         ),
+    log:
+        "results/logs/grid_figures.log",
     params:
         spec=config.get("grid"),
         captions=FIGURE_CAPTIONS,
-    log:
-        "results/logs/grid_figures.log",
     script:
         "../scripts/grid_figures.py"

@@ -10,10 +10,10 @@ rule summary:
         tables=[f"results/tables/table_{n:02d}.csv" for n in all_tables()],
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
-    params:
-        titles=TABLE_TITLES,
     log:
         "results/logs/summary.log",
+    params:
+        titles=TABLE_TITLES,
     script:
         "../scripts/summary.py"
 
@@ -26,8 +26,6 @@ rule notebook:
         notebook="notebooks/{name}.ipynb",
     output:
         "results/notebooks/{name}.ipynb",
-    params:
-        parameters=lambda w: notebook_parameters(w.name),
     log:
         # papermill writes the executed notebook here cell by cell: after a
         # failure it holds the traceback; on success it is copied to output.
@@ -35,6 +33,8 @@ rule notebook:
         text="results/logs/notebook_{name}.log",
     wildcard_constraints:
         name="|".join(NOTEBOOKS),
+    params:
+        parameters=lambda w: notebook_parameters(w.name),
     script:
         "../scripts/run_notebook.py"
 
@@ -47,11 +47,13 @@ rule report_html:
         summary=SUMMARY,
         outputs=report_inputs(),
     output:
-        report("results/report.html", caption="../report/report.rst", category="Summary"),
+        report(
+            "results/report.html", caption="../report/report.rst", category="Summary"
+        ),
+    log:
+        "results/logs/report_html.log",
     params:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
-    log:
-        "results/logs/report_html.log",
     script:
         "../scripts/report_html.py"
