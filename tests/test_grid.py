@@ -1,8 +1,6 @@
 """The virtual AFAL grid (thesis Sec. 7.1-7.2): finite-element model, exact
 time integration, the virtual shaking test, the manual steps, bad input."""
 
-import inspect
-from pathlib import Path
 
 import numpy as np
 import pytest
