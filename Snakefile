@@ -10,9 +10,9 @@ configfile: "config/config.yaml"
 
 validate(config, "workflow/schemas/config.schema.yaml")
 
-import modal.config
+import modal.thesis.config
 
-modal.config.check(config)
+modal.thesis.config.check(config)
 
 
 include: "workflow/rules/common.smk"

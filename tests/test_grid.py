@@ -1,13 +1,10 @@
 """The virtual AFAL grid (thesis Sec. 7.1-7.2): finite-element model, exact
 time integration, the virtual shaking test, the manual steps, bad input."""
 
-import inspect
-from pathlib import Path
 
 import numpy as np
 import pytest
 import scipy.linalg
-import yaml
 from scipy.integrate import solve_ivp
 
 import modal
@@ -21,7 +18,6 @@ from modal.experiment import (
 )
 from modal.grid import Grid
 
-CONFIG = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
 
 
 @pytest.fixture(scope="module")
@@ -93,18 +89,6 @@ def test_crossings_and_dofs(grid):
     clamped = int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])
     with pytest.raises(ValueError, match="clamped"):
         grid.dof(clamped)
-
-
-def test_config_block_matches_the_defaults():
-    # the workflow's grid is the tuned model (the defaults), shaken as shake_test's defaults say
-    block = yaml.safe_load(CONFIG.read_text())["grid"]
-    assert Grid(**block["model"]) == Grid()
-    defaults = {k: p.default for k, p in inspect.signature(shake_test).parameters.items()}
-    for key, value in block["test"].items():
-        if key == "noise":
-            continue
-        expected = defaults[key]
-        assert (list(expected) if isinstance(expected, tuple) else expected) == value, key
 
 
 # ---------------------------------------------------------------- time integration

@@ -5,85 +5,114 @@
 
 rule identify:
     input:
-        ENGINE,
+        code=ENGINE + STUDY_CODE,
     output:
         "results/identified/{study}_{interpretation}.csv",
+    log:
+        "results/logs/identify_{study}_{interpretation}.log",
+    benchmark:
+        "results/benchmarks/identify_{study}_{interpretation}.tsv"
     params:
         study=lambda w: config["studies"][w.study],
         beam=lambda w: config["beams"][config["studies"][w.study]["beam"]],
         signals=lambda w: config["interpretations"][w.interpretation],
         seeds=config["seeds"],
-    log:
-        "results/logs/identify_{study}_{interpretation}.log",
     script:
         "../scripts/identify.py"
 
 
 rule table:
     input:
-        ENGINE,
+        code=TABLE_CODE,
         published=config["published"],
         identified=lambda w: identified(table_spec(w.number)["study"]),
     output:
-        csv="results/tables/table_{number}.csv",
+        csv=report(
+            "results/tables/table_{number}.csv",
+            caption="../report/table.rst",
+            category="Tables",
+            labels={"table": "{number}"},
+        ),
         md="results/tables/table_{number}.md",
-    params:
-        spec=lambda w: table_spec(int(w.number)),
-        methods=lambda w: config["studies"][table_spec(int(w.number))["study"]]["methods"],
-        interpretations=lambda w: config["studies"][table_spec(int(w.number))["study"]]["interpretations"],
-        first_seed=config["seeds"]["first"],
-    wildcard_constraints:
-        number=beam_table_pattern(),
+        notes="results/notes/table_{number}.txt",
     log:
         "results/logs/table_{number}.log",
+    wildcard_constraints:
+        number=beam_table_pattern(),
+    params:
+        spec=lambda w: table_spec(int(w.number)),
+        methods=lambda w: config["studies"][table_spec(int(w.number))["study"]][
+            "methods"
+        ],
+        interpretations=lambda w: config["studies"][
+            table_spec(int(w.number))["study"]
+        ]["interpretations"],
+        first_seed=config["seeds"]["first"],
     script:
         "../scripts/table.py"
 
 
 rule shape_figures:
     input:
-        ENGINE,
+        code=PLOT_CODE,
         identified=identified("demo"),
     output:
-        [f"results/figures/figure_{n:02d}.png" for n in numbers(config["shape_figures"])],
+        report(
+            figure_files(numbers(config["shape_figures"])),
+            caption="../report/figure.rst",
+            category="Figures",
+            subcategory="Mode shapes",
+        ),
+    log:
+        "results/logs/shape_figures.log",
     params:
         figures=config["shape_figures"],
+        captions=FIGURE_CAPTIONS,
         beam=config["beams"][config["studies"]["demo"]["beam"]],
         interpretations=config["studies"]["demo"]["interpretations"],
         first_seed=config["seeds"]["first"],
-    log:
-        "results/logs/shape_figures.log",
     script:
         "../scripts/shape_figures.py"
 
 
 rule noise_figures:
     input:
-        ENGINE,
+        code=PLOT_CODE,
         identified=identified("noise"),
     output:
-        [f"results/figures/figure_{n:02d}.png" for n in numbers(config["noise_figures"])],
-    params:
-        figures=config["noise_figures"],
-        interpretations=config["studies"]["noise"]["interpretations"],
-        first_seed=config["seeds"]["first"],
+        report(
+            figure_files(numbers(config["noise_figures"])),
+            caption="../report/figure.rst",
+            category="Figures",
+            subcategory="Noise",
+        ),
     log:
         "results/logs/noise_figures.log",
+    params:
+        figures=config["noise_figures"],
+        captions=FIGURE_CAPTIONS,
+        interpretations=config["studies"]["noise"]["interpretations"],
+        first_seed=config["seeds"]["first"],
     script:
         "../scripts/noise_figures.py"
 
 
 rule cera_sensitivity:
     input:
-        ENGINE,
+        code=PLOT_CODE,
         identified=identified("cera"),
     output:
         csv="results/tables/cera_sensitivity.csv",
-        png="results/figures/cera_sensitivity.png",
+        png=report(
+            "results/figures/cera_sensitivity.png",
+            caption="../report/cera_sensitivity.rst",
+            category="Beyond the thesis",
+        ),
+    log:
+        "results/logs/cera_sensitivity.log",
     params:
         interpretations=config["studies"]["cera"]["interpretations"],
         first_seed=config["seeds"]["first"],
-    log:
-        "results/logs/cera_sensitivity.log",
+        title=EXTRA_CAPTIONS["cera_sensitivity"],
     script:
         "../scripts/cera_sensitivity.py"

@@ -1,12 +1,53 @@
-# Helpers only: file lists derived from config.
+# Helpers only: file lists derived from config, and the code each rule reads.
+# Snakemake wants rules and functions in separate files.
+import os
+import yaml
 from pathlib import Path
 
-# Results depend on the engine's code, not only on config: Snakemake does not
-# see edits to imported modules by itself.
-# Anchored on the Snakefile's folder, so it holds wherever snakemake is started.
-ENGINE = sorted(str(p) for p in (Path(workflow.basedir) / "modal").rglob("*.py"))
+
+# --- code inputs ---------------------------------------------------------------
+# Snakemake does not see edits to imported modules: each rule lists the code
+# its results depend on, as paths relative to where snakemake runs (so a copied
+# project reruns nothing). The engine for identification, the plotting module
+# for figures, the templates for the report.
+def code(*names):
+    """Paths of project files (``modal/era.py``, ``workflow/report/x``)."""
+    return [os.path.relpath(Path(workflow.basedir) / name) for name in names]
 
 
+# The engine: every top-level module of modal (numerics, no thesis layer).
+ENGINE = sorted(
+    os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
+)
+STUDY_CODE = code("modal/thesis/__init__.py", "modal/thesis/study.py")
+GRID_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
+)
+TABLE_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/tables.py", "modal/thesis/report.py"
+)
+GRID_TABLE_CODE = code("modal/grid.py") + GRID_CODE + code("modal/thesis/report.py")
+PLOT_CODE = code(
+    "modal/thesis/__init__.py",
+    "modal/thesis/plots.py",
+    "modal/thesis/tables.py",
+    "modal/indicators.py",
+    "modal/structures.py",
+    "modal/signals.py",
+)
+GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
+SUMMARY_CODE = TABLE_CODE
+NOTEBOOK_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/display.py", "modal/thesis/report.py"
+)
+REPORT_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py"
+)
+REPORT_TEMPLATES = code("workflow/report/report.html.j2", "workflow/report/report.css")
+CAPTIONS = "workflow/report/captions.yaml"
+
+
+# --- the beam chapter (beam.smk) ------------------------------------------------
 def table_numbers():
     return sorted(int(n) for n in config["tables"])
 
@@ -22,43 +63,50 @@ def study_of_table(number):
 
 def identified(study):
     """The identified-modes files of one study, one per interpretation."""
-    return [f"results/identified/{study}_{i}.csv" for i in config["studies"][study]["interpretations"]]
+    return [
+        f"results/identified/{study}_{i}.csv"
+        for i in config["studies"][study]["interpretations"]
+    ]
 
 
 def numbers(mapping):
     return sorted(int(n) for n in mapping)
 
 
-def beam_outputs():
-    out = []
-    for n in table_numbers():
-        out += [f"results/tables/table_{n:02d}.csv", f"results/tables/table_{n:02d}.md"]
-    out += [f"results/figures/figure_{n:02d}.png" for n in numbers(config["shape_figures"])]
-    out += [f"results/figures/figure_{n:02d}.png" for n in numbers(config["noise_figures"])]
-    if "cera" in config["studies"] and config["studies"]["cera"].get("cols_sweep"):
-        out += ["results/tables/cera_sensitivity.csv", "results/figures/cera_sensitivity.png"]
-    return out
-
-
-# --- report stage (report.smk): notebooks and the HTML report ---------------
-
-NOTEBOOKS = ["00_summary", "01_method_demo", "02_noise_study", "03_spillover", "04_cera", "05_grid"]
-CAPTIONS = "workflow/report/captions.yaml"
-# Paths handed to the notebooks' `parameters` cells (each gets those it declares).
-NOTEBOOK_PARAMETERS = {
-    "tables_dir": "results/tables",
-    "figures_dir": "results/figures",
-    "identified_dir": "results/identified",
-    "captions_file": CAPTIONS,
-}
-
-
 def table_files(numbers):
-    return [f"results/tables/table_{n:02d}.{ext}" for n in numbers for ext in ("csv", "md")]
+    return [
+        f"results/tables/table_{n:02d}.{ext}" for n in numbers for ext in ("csv", "md")
+    ]
+
+
+def note_files(numbers):
+    return [f"results/notes/table_{n:02d}.txt" for n in numbers]
 
 
 def figure_files(numbers):
     return [f"results/figures/figure_{n:02d}.png" for n in numbers]
+
+
+def cera_sensitivity_files():
+    if "cera" in config["studies"] and config["studies"]["cera"].get("cols_sweep"):
+        return [
+            "results/tables/cera_sensitivity.csv",
+            "results/figures/cera_sensitivity.png",
+        ]
+    return []
+
+
+def beam_outputs():
+    return (
+        table_files(table_numbers())
+        + figure_files(numbers(config["shape_figures"]))
+        + figure_files(numbers(config["noise_figures"]))
+        + cera_sensitivity_files()
+    )
+
+
+def beam_table_pattern():
+    return "|".join(f"{n:02d}" for n in table_numbers())
 
 
 def tables_of(*studies):
@@ -70,51 +118,28 @@ def noisy_tables():
     out = []
     for n in table_numbers():
         spec = table_spec(n)
-        case = config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
+        case = (
+            config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
+        )
         if case.get("noise", 0) > 0:
             out.append(n)
     return out
 
 
-def cera_sensitivity_files():
-    return [f for f in beam_outputs() if "cera_sensitivity" in f]
+# --- the grid chapter (grid.smk): numbers from config ----------------------------
+def grid_tables():
+    return sorted(int(n) for n in config.get("grid", {}).get("tables", {}))
 
 
-def notebook_inputs(name):
-    """The workflow outputs a notebook reads."""
-    if name == "00_summary":
-        return beam_outputs() + grid_outputs()
-    if name == "01_method_demo":
-        return table_files(tables_of("demo")) + figure_files(numbers(config["shape_figures"]))
-    if name == "02_noise_study":
-        return (figure_files(numbers(config["noise_figures"])) + table_files(noisy_tables())
-                + identified("noise"))
-    if name == "03_spillover":
-        return table_files(tables_of("spillover"))
-    if name == "04_cera":
-        return table_files(tables_of("cera")) + cera_sensitivity_files()
-    if name == "05_grid":
-        # grid_outputs() is defined in grid.smk (included after this file,
-        # called only once all files are read); whatever it lists, the grid
-        # notebook shows, and it names the thesis tables/figures still missing.
-        return grid_outputs()
-    raise ValueError(f"unknown notebook {name!r}")
+def grid_figures():
+    if "grid" not in config:
+        return []
+    figures = config["grid"]["figures"]
+    return [figures["layout"], *figures["responses"], *figures["filtered"]]
 
 
-def report_inputs():
-    """What the HTML report reads: every table and figure the workflow makes."""
-    return beam_outputs() + grid_outputs()
-
-
-def report_outputs():
-    """The executed notebooks and the HTML report (called by rule all)."""
-    return [f"results/notebooks/{name}.ipynb" for name in NOTEBOOKS] + ["results/report.html"]
-
-
-# --- grid stage (grid.smk): Chapter 7 ------------------------------------------
-
-GRID_TABLES = [10, 11, 12, 13, 14, 15]
-GRID_FIGURES = list(range(12, 22))
+def grid_table_pattern():
+    return "|".join(f"{n:02d}" for n in grid_tables()) or "none"
 
 
 def grid_inputs():
@@ -126,10 +151,101 @@ def grid_inputs():
 
 
 def grid_outputs():
-    if "grid" not in config:
+    return table_files(grid_tables()) + figure_files(grid_figures())
+
+
+# --- the report (report.smk) ------------------------------------------------------
+NOTEBOOKS = [
+    "00_summary",
+    "01_method_demo",
+    "02_noise_study",
+    "03_spillover",
+    "04_cera",
+    "05_grid",
+]
+SUMMARY = "results/tables/summary.csv"
+# Handed to the notebooks' `parameters` cells (each gets those it declares):
+# paths relative to the project root, where papermill runs them.
+NOTEBOOK_PATHS = {
+    "tables_dir": "results/tables",
+    "figures_dir": "results/figures",
+    "identified_dir": "results/identified",
+    "summary_file": SUMMARY,
+    "captions_file": CAPTIONS,
+}
+
+
+def notebook_parameters(name):
+    """Paths, and for the grid notebook the grid's table and figure numbers."""
+    return {
+        **NOTEBOOK_PATHS,
+        "table_numbers": grid_tables(),
+        "figure_numbers": grid_figures(),
+    }
+
+
+def all_tables():
+    return table_numbers() + grid_tables()
+
+
+def notebook_inputs(name):
+    """The workflow outputs a notebook reads: the summary (its verdicts) and
+    the tables, notes and figures of its chapter."""
+    return [SUMMARY] + chapter_outputs(name)
+
+
+def chapter_outputs(name):
+    if name == "00_summary":
         return []
-    return table_files(GRID_TABLES) + figure_files(GRID_FIGURES)
+    if name == "01_method_demo":
+        numbers_ = tables_of("demo")
+        return (
+            table_files(numbers_)
+            + note_files(numbers_)
+            + figure_files(numbers(config["shape_figures"]))
+        )
+    if name == "02_noise_study":
+        return (
+            figure_files(numbers(config["noise_figures"]))
+            + table_files(noisy_tables())
+            + note_files(noisy_tables())
+            + identified("noise")
+        )
+    if name == "03_spillover":
+        return table_files(tables_of("spillover")) + note_files(tables_of("spillover"))
+    if name == "04_cera":
+        return (
+            table_files(tables_of("cera"))
+            + note_files(tables_of("cera"))
+            + cera_sensitivity_files()
+        )
+    if name == "05_grid":
+        return grid_outputs() + note_files(grid_tables())
+    raise ValueError(f"unknown notebook {name!r}")
 
 
-def beam_table_pattern():
-    return "|".join(f"{n:02d}" for n in table_numbers())
+def report_inputs():
+    """What the HTML report reads: every table, its notes, every figure."""
+    return beam_outputs() + grid_outputs() + note_files(all_tables())
+
+
+def report_outputs():
+    """The summary, the executed notebooks and the HTML report (rule all)."""
+    return (
+        [SUMMARY]
+        + [f"results/notebooks/{name}.ipynb" for name in NOTEBOOKS]
+        + ["results/report.html"]
+    )
+
+
+# --- titles and captions: one source each ----------------------------------------
+# Table titles: config (tables.N.title, grid.tables.N.title). Figure captions:
+# the thesis's, in workflow/report/captions.yaml.
+TABLE_TITLES = {
+    **{int(n): t["title"] for n, t in config["tables"].items()},
+    **{int(n): t["title"] for n, t in config.get("grid", {}).get("tables", {}).items()},
+}
+with open(Path(workflow.basedir) / CAPTIONS, encoding="utf-8") as _fh:
+    _CAPTIONS = yaml.safe_load(_fh)
+FIGURE_CAPTIONS = {int(n): text for n, text in _CAPTIONS["figures"].items()}
+EXTRA_CAPTIONS = _CAPTIONS["extras"]

@@ -1,23 +1,31 @@
-# Report notebooks (papermill) and the reproduction report (one HTML file).
-#
-# Each notebook reads the workflow's outputs and displays them; it computes
-# nothing the engine computes (summary verdicts come from modal.report).
-# Inputs are the files each notebook reads, so a changed table re-executes
-# only the notebooks that show it. The file lists (NOTEBOOKS, notebook_inputs,
-# report_outputs, ...) live in common.smk: snakemake --lint wants rules and
-# functions in separate files.
+# The reproduction summary (computed once), the report notebooks (papermill)
+# and the HTML report (jinja2 template). Notebooks and the HTML read the
+# summary; they compute no verdict. Inputs are the files each one reads, so a
+# changed table re-executes only the notebooks that show it.
+
+
+rule summary:
+    input:
+        code=SUMMARY_CODE,
+        tables=[f"results/tables/table_{n:02d}.csv" for n in all_tables()],
+    output:
+        report(SUMMARY, caption="../report/summary.rst", category="Summary"),
+    log:
+        "results/logs/summary.log",
+    params:
+        titles=TABLE_TITLES,
+    script:
+        "../scripts/summary.py"
 
 
 rule notebook:
     input:
-        ENGINE,
-        CAPTIONS,
+        code=NOTEBOOK_CODE,
+        captions=CAPTIONS,
         data=lambda w: notebook_inputs(w.name),
         notebook="notebooks/{name}.ipynb",
     output:
         "results/notebooks/{name}.ipynb",
-    params:
-        parameters=NOTEBOOK_PARAMETERS,
     log:
         # papermill writes the executed notebook here cell by cell: after a
         # failure it holds the traceback; on success it is copied to output.
@@ -25,19 +33,27 @@ rule notebook:
         text="results/logs/notebook_{name}.log",
     wildcard_constraints:
         name="|".join(NOTEBOOKS),
+    params:
+        parameters=lambda w: notebook_parameters(w.name),
     script:
         "../scripts/run_notebook.py"
 
 
 rule report_html:
     input:
-        ENGINE,
+        code=REPORT_CODE,
+        template=REPORT_TEMPLATES,
         captions=CAPTIONS,
-        intro="workflow/report/intro.md",
+        summary=SUMMARY,
         outputs=report_inputs(),
     output:
-        "results/report.html",
+        report(
+            "results/report.html", caption="../report/report.rst", category="Summary"
+        ),
     log:
         "results/logs/report_html.log",
+    params:
+        titles=TABLE_TITLES,
+        configfiles=[os.path.relpath(f) for f in workflow.configfiles],
     script:
         "../scripts/report_html.py"

@@ -1,14 +1,15 @@
 """CERA against the Hankel width s (not in the thesis, which does not give s)."""
-import sys
-
 import pandas as pd
 
-import modal.plots
-import modal.tables
+import modal.thesis.plots
+import modal.thesis.tables
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("cera_sensitivity")
+redirect_log(snakemake)
+
 frames = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
-table = modal.tables.cera_sensitivity(frames, snakemake.params.first_seed)
-table.to_csv(snakemake.output.csv, index=False)
-modal.plots.cera_sensitivity_figure(table, "CERA: frequency error against Hankel width s (modes 1-3)").savefig(
-    snakemake.output.png, dpi=120)
+table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)
+modal.thesis.tables.write_csv(table, snakemake.output.csv)
+modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title).savefig(snakemake.output.png, dpi=120)

@@ -1,32 +1,42 @@
-"""Figures 12-21: the grid, raw and filtered responses of the chosen accelerometers."""
-import sys
-
+"""Grid figures (thesis Figures 12-21, numbers from grid.figures): the grid,
+the raw and the filtered responses of the chosen accelerometers."""
 import numpy as np
 import pandas as pd
 
-import modal.grid_study as gs
-import modal.plots
+import modal.thesis.grid_study as gs
+import modal.thesis.plots as plots
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
-spec = snakemake.params.spec
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("grid_figures")
+redirect_log(snakemake)
+
+spec, captions = snakemake.params.spec, snakemake.params.captions
+numbers = spec["figures"]
+paths = dict(zip([numbers["layout"], *numbers["responses"], *numbers["filtered"]], snakemake.output))
 rec = np.load(snakemake.input.record)
 selection = pd.read_csv(snakemake.input.selection)
 chosen = selection[selection["seed"] == selection["seed"].min()].sort_values("rank")["channel"].to_numpy()
 acc, dt = rec["acceleration"][:, chosen], float(rec["dt"])
-paths = iter(snakemake.output)
+
+
+def title(number):
+    return f"Figure {number}. {captions[number]}"
+
+
+layout = numbers["layout"]
 if spec["source"] == "virtual":
-    grid = gs.grid_model(spec)
-    fig = modal.plots.grid_figure(grid, np.asarray(spec["test"]["sensors"]), chosen,
-                                  "Figure 12. The (virtual) AFAL grid and its accelerometers")
+    fig = plots.grid_figure(gs.grid_model(spec), np.asarray(spec["test"]["sensors"]), chosen, title(layout))
 else:
-    fig = modal.plots.response_figure(rec["acceleration"], dt, list(range(1, rec["acceleration"].shape[1] + 1)),
-                                      "Figure 12. Measured record: all channels (no grid geometry)", spectrum=False)
-fig.savefig(next(paths), dpi=110)
-for k in range(6):
-    modal.plots.response_figure(acc[:, [k]], dt, [k + 1], f"Figure {13 + k}. Time and frequency responses of the "
-                                f"grid (accelerometer no. {k + 1})").savefig(next(paths), dpi=110)
-filtered = gs.preprocess(acc, dt, snakemake.params.cutoff)
-for k, pair in enumerate(([0, 1], [2, 3], [4, 5])):
-    modal.plots.response_figure(filtered[:, pair], dt, [p + 1 for p in pair],
-                                f"Figure {19 + k}. Filtered ({snakemake.params.cutoff:g} Hz) time responses of the grid",
-                                spectrum=False).savefig(next(paths), dpi=110)
+    channels = list(range(1, rec["acceleration"].shape[1] + 1))
+    fig = plots.response_figure(rec["acceleration"], dt, channels, title(layout) + " (measured record: all channels)",
+                                spectrum=False)
+fig.savefig(paths[layout], dpi=110)
+for k, number in enumerate(numbers["responses"]):
+    plots.response_figure(acc[:, [k]], dt, [k + 1], title(number)).savefig(paths[number], dpi=110)
+cutoff = spec["figures_cutoff_hz"]
+filtered = gs.preprocess(acc, dt, cutoff)
+for k, number in enumerate(numbers["filtered"]):
+    pair = [2 * k, 2 * k + 1]
+    plots.response_figure(filtered[:, pair], dt, [p + 1 for p in pair], f"{title(number)}, {cutoff:g} Hz low-pass",
+                          spectrum=False).savefig(paths[number], dpi=110)

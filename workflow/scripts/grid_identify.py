@@ -1,11 +1,13 @@
-"""Grid chapter: records (virtual or measured) -> every identification of Tables 10-15."""
-import sys
-
+"""Grid chapter: records (virtual or measured) -> every identification of the grid tables."""
 import numpy as np
 
-import modal.grid_study as gs
+import modal.thesis.grid_study as gs
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("grid_identify")
+redirect_log(snakemake)
+
 spec = snakemake.params.spec
 records = gs.grid_records(spec)
 identified, selection = gs.run_grid_study(records, spec)

@@ -1,22 +1,27 @@
-"""One grid table (10-15): published beside reproduced -> table_NN.csv and .md."""
-import sys
-
+"""One grid table: published beside reproduced -> table_NN.csv, .md and notes."""
 import pandas as pd
 
-import modal.grid_study as gs
-import modal.tables
+import modal.thesis.grid_study as gs
+import modal.thesis.report
+import modal.thesis.tables
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("grid_table", number="11")
+redirect_log(snakemake)
+
 number = int(snakemake.wildcards.number)
 spec = snakemake.params.spec
-published = modal.tables.read_published(snakemake.input.published)
+published = modal.thesis.tables.read_published(snakemake.input.published)
 identified = pd.read_csv(snakemake.input.identified)
 selection = pd.read_csv(snakemake.input.selection)
 table = gs.grid_table(number, published[published["table"] == number], identified, selection, spec,
                       snakemake.params.first_seed)
-table.to_csv(snakemake.output.csv, index=False)
-model_hz = gs.grid_model(spec).frequencies_hz(4) if spec["source"] == "virtual" and number == 10 else None
-notes = gs.grid_notes(number, table, identified, spec, model_hz)
+modal.thesis.tables.write_csv(table, snakemake.output.csv)
+model = spec["source"] == "virtual" and spec["tables"][number].get("finding") == "model"
+notes = gs.grid_notes(number, table, identified, spec, gs.grid_model(spec).frequencies_hz(4) if model else None)
+modal.thesis.report.write_notes(snakemake.output.notes, notes)
+source = "virtual grid" if spec["source"] == "virtual" else "measured record"
 with open(snakemake.output.md, "w") as fh:
-    fh.write(modal.tables.to_markdown(table, f"Table {number}. {spec['tables'][number]['title']} "
-                                       f"(Hz; {'virtual grid' if spec['source'] == 'virtual' else 'measured record'})", notes))
+    fh.write(modal.thesis.tables.to_markdown(table, f"Table {number}. {spec['tables'][number]['title']} "
+                                             f"(Hz; {source})", notes))

@@ -1,12 +1,14 @@
-"""Figures 9-11: identified frequency against signal-to-noise ratio."""
-import sys
-
+"""Noise figures (thesis Figures 9-11): identified frequency against signal-to-noise ratio."""
 import pandas as pd
 
-import modal.plots
+import modal.thesis.plots
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("noise_figures")
+redirect_log(snakemake)
+
 identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 for path, (number, mode) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
-    title = f"Figure {int(number)}. Effect of noise (natural frequency {mode}), x-ERA, o-TCM"
-    modal.plots.noise_figure(identified, mode, title).savefig(path, dpi=120)
+    title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
+    modal.thesis.plots.noise_figure(identified, mode, title).savefig(path, dpi=120)

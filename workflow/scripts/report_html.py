@@ -1,35 +1,36 @@
-"""results/report.html: one self-contained page with the reproduction summary,
-every thesis table and every figure (PNG embedded as base64)."""
-import re
-import sys
+"""results/report.html: one self-contained page (jinja2 template under
+workflow/report/) with the reproduction summary, every thesis table in its
+layout with the computed notes, and every figure (PNG embedded)."""
 from pathlib import Path
 
+import pandas as pd
 import yaml
 
-import modal.report
+import modal.thesis.html
+import modal.thesis.report
+import modal.thesis.tables
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
-captions = yaml.safe_load(Path(snakemake.input.captions).read_text())
-files = [Path(f) for f in snakemake.input.outputs]
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("report_html")
+redirect_log(snakemake)
 
-
-def numbered(prefix, suffix):
-    return {int(m.group(1)): f for f in files if (m := re.fullmatch(rf"{prefix}_(\d\d){suffix}", f.name))}
-
-
-csvs, mds, pngs = numbered("table", r"\.csv"), numbered("table", r"\.md"), numbered("figure", r"\.png")
+captions = yaml.safe_load(Path(snakemake.input.captions).read_text(encoding="utf-8"))
+files = {Path(f).name: Path(f) for f in snakemake.input.outputs}
+summary = pd.read_csv(snakemake.input.summary)
 tables = {}
-for number, path in csvs.items():
-    tables.update(modal.report.load_tables(path.parent, numbers={number}))
-summary = modal.report.reproduction_summary(tables)
-# every thesis table and figure has a place; those not produced are listed as missing
-table_md = {n: (mds[n].read_text() if n in mds else None) for n in sorted(set(captions["tables"]) | set(mds))}
-figures = {n: (pngs[n].read_bytes() if n in pngs else None) for n in sorted(set(captions["figures"]) | set(pngs))}
+for number, title in snakemake.params.titles.items():
+    csv = files.get(f"table_{number:02d}.csv")
+    frame = None if csv is None else modal.thesis.tables.read_table(csv)
+    tables[number] = dict(title=title, frame=frame,
+                          notes=modal.thesis.report.read_notes(files.get(f"table_{number:02d}.txt")))
+figures = {int(n): dict(caption=text, png=files.get(f"figure_{int(n):02d}.png"))
+           for n, text in captions["figures"].items()}
 extras = []
-cera = [f for f in files if f.name == "cera_sensitivity.png"]
-if cera:
-    extras.append(("CERA sensitivity to the Hankel width s", None, cera[0].read_bytes(),
-                   captions["extras"]["cera_sensitivity"]))
-html = modal.report.report_html(summary, table_md, figures, captions["figures"], extras,
-                                title="Reproduction report", intro=Path(snakemake.input.intro).read_text())
-Path(snakemake.output[0]).write_text(html)
+if "cera_sensitivity.png" in files:
+    extras.append(dict(heading="CERA sensitivity to the Hankel width s", png=files["cera_sensitivity.png"],
+                       caption=captions["extras"]["cera_sensitivity"]))
+template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
+html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
+                                       extras, provenance={"config": ", ".join(snakemake.params.configfiles)})
+Path(snakemake.output[0]).write_text(html, encoding="utf-8")

@@ -13,6 +13,10 @@ from pathlib import Path
 import papermill as pm
 from jupyter_client.kernelspec import KernelSpecManager
 
+from _helpers import mock_snakemake
+
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("notebook", name="00_summary")
 sys.stderr = sys.stdout = open(snakemake.log.text, "w")
 
 spec = KernelSpecManager().get_kernel_spec("python3")

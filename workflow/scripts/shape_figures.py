@@ -1,13 +1,15 @@
-"""Figures 1-8: identified mode shapes against the exact ones."""
-import sys
-
+"""Mode-shape figures (thesis Figures 1-8): identified mode shapes against the exact ones."""
 import pandas as pd
 
-import modal.plots
+import modal.thesis.plots
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("shape_figures")
+redirect_log(snakemake)
+
 identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 for path, (number, fig) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
-    title = f"Figure {int(number)}. {fig['method'].upper()} mode shapes, case {fig['case']}"
-    modal.plots.shape_figure(snakemake.params.beam, identified, fig["case"], fig["method"],
-                             snakemake.params.first_seed, title).savefig(path, dpi=120)
+    title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
+    modal.thesis.plots.shape_figure(snakemake.params.beam, identified, fig["case"], fig["method"],
+                                    snakemake.params.first_seed, title).savefig(path, dpi=120)

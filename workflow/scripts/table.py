@@ -1,18 +1,21 @@
-"""One thesis table: published beside reproduced -> table_NN.csv and .md."""
-import sys
-
+"""One thesis table: published beside reproduced -> table_NN.csv, .md and notes."""
 import pandas as pd
 
-import modal.tables
-import modal.report
+import modal.thesis.report
+import modal.thesis.tables
+from _helpers import mock_snakemake, redirect_log
 
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("table", number="04")
+redirect_log(snakemake)
+
 number = int(snakemake.wildcards.number)
-published = modal.tables.read_published(snakemake.input.published)
+published = modal.thesis.tables.read_published(snakemake.input.published)
 identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
-table = modal.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
-                             snakemake.params.methods, snakemake.params.first_seed)
-table.to_csv(snakemake.output.csv, index=False)
-notes = modal.report.table_notes(number, table)
+table = modal.thesis.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
+                                    snakemake.params.methods, snakemake.params.first_seed)
+modal.thesis.tables.write_csv(table, snakemake.output.csv)
+notes = modal.thesis.report.table_notes(number, table)
+modal.thesis.report.write_notes(snakemake.output.notes, notes)
 with open(snakemake.output.md, "w") as fh:
-    fh.write(modal.tables.to_markdown(table, f"Table {number}. {snakemake.params.spec['title']}", notes))
+    fh.write(modal.thesis.tables.to_markdown(table, f"Table {number}. {snakemake.params.spec['title']}", notes))

@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from .indicators import align_shapes
-from .structures import SimplySupportedBeam
+from ..indicators import align_shapes
+from ..structures import SimplySupportedBeam
 from .tables import match_to_reference
 
 MARKERS = {"tcm": "o", "era": "x", "cera": "s"}
@@ -55,7 +55,7 @@ def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) 
     """Identified frequency of one mode against snr = 1 / eta: mean and a
     +-1 std band over seeds, the first seed's realisation as markers, the
     exact value as a line (Figs. 9-11). In each seed the mode is the entry
-    matched to it by frequency (:func:`modal.tables.match_to_reference`), so a
+    matched to it by frequency (:func:`modal.thesis.tables.match_to_reference`), so a
     real pole or a lost mode does not shift the others."""
     fig = Figure(figsize=(6.5, 2.6 * len(identified)), layout="constrained")
     axes = np.atleast_1d(fig.subplots(len(identified), 1, sharex=True))
@@ -128,7 +128,7 @@ def grid_figure(grid, nodes, chosen, title: str) -> Figure:
 def response_figure(acc: np.ndarray, dt: float, numbers, title: str, spectrum: bool = True,
                     fmax_hz: float = 25.0) -> Figure:
     """Time response (and amplitude spectrum) of accelerometers (Figs. 13-21)."""
-    from .signals import amplitude_spectrum
+    from ..signals import amplitude_spectrum
 
     acc = np.atleast_2d(acc.T).T
     n = acc.shape[1]

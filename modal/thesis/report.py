@@ -3,16 +3,13 @@ published values sit in the seed spread, whether the inclusion principle holds."
 
 from __future__ import annotations
 
-import base64
-import html
-import re
 from fractions import Fraction
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
-from .tables import inclusion_holds, interpretation_summary
+from .tables import inclusion_holds, interpretation_summary, read_table
 
 
 def table_notes(number: int, table: pd.DataFrame) -> list[str]:
@@ -161,13 +158,12 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
     ----------
     tables : dict
         Table number -> the tidy comparison (``results/tables/table_NN.csv``,
-        as written by :func:`modal.tables.compare`). Needs the columns
+        as written by :func:`modal.thesis.tables.compare`). Needs the columns
         ``mode, method, column, printed, published, flag, reproduced, std,
         n_seeds, z, rel_dev, printed_match`` (``interpretation``,
         ``seed0_real_pole`` and ``real_pole_frac`` when present).
     titles : dict, optional
-        Table number -> title; otherwise ``frame.attrs["title"]`` if set
-        (see :func:`load_tables`).
+        Table number -> title (from config: ``tables`` and ``grid.tables``).
 
     Returns
     -------
@@ -195,7 +191,7 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
         ident = cells[~cells["method"].isin(REFERENCE_METHODS)]
         n_published = len(cells.drop_duplicates(["mode", "method", "column"]))
         assessed = {interp: _assess(g) for interp, g in ident.groupby("interpretation", sort=True)}
-        title = titles.get(number, tables[number].attrs.get("title", ""))
+        title = titles.get(number, "")
         if not assessed:
             rows.append(dict(table=number, title=title, n_published=n_published, n_compared=0, interpretation="",
                              n_match=0, n_within_noise=np.nan, max_abs_rel_dev=np.nan, worst="",
@@ -216,174 +212,23 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
     return pd.DataFrame(rows, columns=columns)
 
 
-def summary_markdown(frame: pd.DataFrame, definitions: bool = True) -> str:
-    """A pipe table of :func:`reproduction_summary`, verdicts spelled out,
-    followed by the verdict definitions."""
-    header = ["Table", "Title", "Published values", "Compared", "Best interpretation", "Match printed digits",
-              "Within noise spread", "Largest abs. deviation", "Verdict"]
-    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for r in frame.itertuples():
-        within = "" if pd.isna(r.n_within_noise) else f"{int(r.n_within_noise)} of {r.n_compared}"
-        dev = "" if pd.isna(r.max_abs_rel_dev) else f"{_pct(r.max_abs_rel_dev)} ({r.worst})"
-        verdict = r.verdict + (f": {r.why}" if r.why else "")
-        cells = [str(r.table), str(r.title), str(r.n_published), str(r.n_compared), str(r.interpretation),
-                 f"{r.n_match} of {r.n_compared}", within, dev, verdict]
-        lines.append("| " + " | ".join(c.replace("|", "/") for c in cells) + " |")  # no pipes inside cells
-    counts = frame["verdict"].value_counts()
-    lines += ["", f"Of {len(frame)} tables: "
-              + ", ".join(f"{counts.get(v, 0)} {v}" for v in (VERDICT_REPRODUCED, VERDICT_NOISE, VERDICT_NOT)) + "."]
-    if definitions:
-        lines += [""] + [f"- {d}" for d in VERDICT_DEFINITIONS]
-    return "\n".join(lines) + "\n"
-
-
 def load_tables(directory, numbers=None) -> dict[int, pd.DataFrame]:
     """The ``table_NN.csv`` files present in ``directory`` (all, or those in
-    ``numbers``), each with ``attrs["title"]`` from the heading of its
-    ``table_NN.md`` ("### Table N. title") when present."""
+    ``numbers``), as :func:`reproduction_summary` takes them."""
     directory = Path(directory)
     tables = {}
     for path in sorted(directory.glob("table_[0-9][0-9].csv")):
         number = int(path.stem.split("_")[1])
-        if numbers is not None and number not in numbers:
-            continue
-        frame = pd.read_csv(path, dtype={"printed": str, "column": str, "flag": str})
-        md = path.with_suffix(".md")
-        if md.exists():
-            first = md.read_text().splitlines()[0] if md.read_text() else ""
-            prefix = f"### Table {number}."
-            frame.attrs["title"] = first[len(prefix):].strip() if first.startswith(prefix) else ""
-        tables[number] = frame
+        if numbers is None or number in numbers:
+            tables[number] = read_table(path)
     return tables
 
 
-# --------------------------------------------------------------------------- #
-# A self-contained HTML report (no markdown package needed)
-# --------------------------------------------------------------------------- #
-
-def _inline(text: str) -> str:
-    out = html.escape(text, quote=False)
-    out = re.sub(r"`([^`]+)`", r"<code>\1</code>", out)
-    return re.sub(r"\*\*([^*]+)\*\*", r"<strong>\1</strong>", out)
+def write_notes(path, notes) -> None:
+    """The notes of one table, one per line (``results/notes/table_NN.txt``)."""
+    Path(path).write_text("".join(f"{note}\n" for note in notes))
 
 
-def markdown_to_html(text: str) -> str:
-    """The small Markdown subset the workflow writes: ``#``-headings, pipe
-    tables, ``- `` lists and paragraphs. Everything is HTML-escaped; a single
-    ``*`` is literal (the thesis's real-pole mark); `code` and **bold** spans
-    are kept."""
-    out, lines, i = [], text.splitlines(), 0
-
-    def cells(line):
-        return [c.strip() for c in line.strip().strip("|").split("|")]
-
-    while i < len(lines):
-        line = lines[i]
-        if not line.strip():
-            i += 1
-        elif line.lstrip().startswith("#"):
-            level = min(len(line) - len(line.lstrip("#")), 6)
-            out.append(f"<h{level}>{_inline(line.lstrip('#').strip())}</h{level}>")
-            i += 1
-        elif line.lstrip().startswith("|"):
-            block = []
-            while i < len(lines) and lines[i].lstrip().startswith("|"):
-                block.append(lines[i])
-                i += 1
-            rule = len(block) > 1 and all(set(c) <= set("-: ") and c for c in cells(block[1]))
-            head, body = (block[0], block[2:]) if rule else (None, block)
-            html_rows = []
-            if head is not None:
-                html_rows.append("<thead><tr>" + "".join(f"<th>{_inline(c)}</th>" for c in cells(head)) + "</tr></thead>")
-            html_rows.append("<tbody>" + "".join(
-                "<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in cells(row)) + "</tr>" for row in body) + "</tbody>")
-            out.append("<table>" + "".join(html_rows) + "</table>")
-        elif line.lstrip().startswith(("- ", "* ")):
-            items = []
-            while i < len(lines) and lines[i].lstrip().startswith(("- ", "* ")):
-                items.append(lines[i].lstrip()[2:].strip())
-                i += 1
-            out.append("<ul>" + "".join(f"<li>{_inline(t)}</li>" for t in items) + "</ul>")
-        else:
-            para = []
-            while i < len(lines) and lines[i].strip() and not lines[i].lstrip().startswith(("#", "|", "- ", "* ")):
-                para.append(lines[i].strip())
-                i += 1
-            out.append(f"<p>{_inline(' '.join(para))}</p>")
-    return "\n".join(out)
-
-
-_CSS = """
-body { font-family: system-ui, sans-serif; max-width: 70em; margin: 2em auto; padding: 0 1em; color: #222; }
-table { border-collapse: collapse; margin: 0.6em 0; font-size: 0.85em; }
-th, td { border: 1px solid #bbb; padding: 0.2em 0.5em; text-align: right; vertical-align: top; }
-th { background: #eee; }
-#summary td:nth-child(2), #summary td:nth-child(5), #summary td:last-child { text-align: left; }
-#summary th { text-align: left; }
-figure { margin: 1.5em 0; }
-figure img { max-width: 100%; border: 1px solid #ddd; }
-figcaption { font-style: italic; margin-top: 0.3em; }
-.missing { color: #a33; }
-section.table { margin-bottom: 2em; }
-"""
-
-
-def report_html(summary: pd.DataFrame, tables: dict[int, str | None], figures: dict[int, bytes | None],
-                captions: dict[int, str], extras: list[tuple[str, str | None, bytes | None, str]] = (),
-                title: str = "Reproduction report", intro: str = "") -> str:
-    """One self-contained HTML page: the summary, every table, every figure.
-
-    Parameters
-    ----------
-    summary : DataFrame
-        :func:`reproduction_summary`.
-    tables : dict
-        Table number -> its Markdown (``table_NN.md``), or None when not
-        produced (listed as missing).
-    figures : dict
-        Figure number -> PNG bytes, or None when not produced (listed as missing).
-    captions : dict
-        Figure number -> the thesis's caption; shown as "Figure N. caption".
-    extras : list of (heading, markdown or None, png or None, caption)
-        Results beyond the thesis (e.g. the CERA sensitivity to s).
-    """
-    def missing_list(kind, numbers):
-        return (f'<p class="missing">{kind} not produced yet: ' + ", ".join(str(n) for n in numbers) + "</p>"
-                if numbers else "")
-
-    parts = [f"<h1>{html.escape(title)}</h1>"]
-    if intro:
-        parts.append(markdown_to_html(intro))
-    parts.append('<nav><a href="#summary">Summary</a> · <a href="#tables">Tables</a> · '
-                 '<a href="#figures">Figures</a>' + (' · <a href="#extras">Beyond the thesis</a>' if extras else "")
-                 + "</nav>")
-    parts.append('<section id="summary"><h2>Summary</h2>' + markdown_to_html(summary_markdown(summary))
-                 + missing_list("Tables", [n for n, md in sorted(tables.items()) if md is None]) + "</section>")
-    parts.append('<section id="tables"><h2>Tables</h2>')
-    for number, md in sorted(tables.items()):
-        if md is not None:
-            parts.append(f'<section class="table" id="table-{number}">' + markdown_to_html(md) + "</section>")
-    parts.append(missing_list("Tables", [n for n, md in sorted(tables.items()) if md is None]) + "</section>")
-    parts.append('<section id="figures"><h2>Figures</h2>')
-
-    def figure(png, caption, anchor):
-        data = base64.b64encode(png).decode("ascii")
-        return (f'<figure id="{anchor}"><img alt="{html.escape(caption)}" src="data:image/png;base64,{data}">'
-                f"<figcaption>{html.escape(caption)}</figcaption></figure>")
-
-    for number, png in sorted(figures.items()):
-        if png is not None:
-            parts.append(figure(png, f"Figure {number}. {captions.get(number, '')}".strip(), f"figure-{number}"))
-    parts.append(missing_list("Figures", [n for n, png in sorted(figures.items()) if png is None]) + "</section>")
-    if extras:
-        parts.append('<section id="extras"><h2>Beyond the thesis</h2>')
-        for k, (heading, md, png, caption) in enumerate(extras):
-            parts.append(f"<h3>{html.escape(heading)}</h3>")
-            if md:
-                parts.append(markdown_to_html(md))
-            if png is not None:
-                parts.append(figure(png, caption, f"extra-{k + 1}"))
-        parts.append("</section>")
-    return ("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-            f"<title>{html.escape(title)}</title>\n<style>{_CSS}</style>\n</head>\n<body>\n"
-            + "\n".join(parts) + "\n</body>\n</html>\n")
+def read_notes(path) -> list[str]:
+    """The notes :func:`write_notes` wrote; none when ``path`` is None or absent."""
+    return Path(path).read_text().splitlines() if path is not None and Path(path).is_file() else []

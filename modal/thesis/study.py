@@ -12,11 +12,11 @@ from collections.abc import Mapping
 import numpy as np
 import pandas as pd
 
-from .cera import cera
-from .era import era
-from .simulate import Record, beam_impulse_response, with_noise
-from .structures import SimplySupportedBeam
-from .tcm import tcm
+from ..cera import cera
+from ..era import era
+from ..simulate import Record, beam_impulse_response, with_noise
+from ..structures import SimplySupportedBeam
+from ..tcm import tcm
 
 SIGNAL_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 

@@ -1,6 +1,7 @@
 """The grid chapter's pipeline: virtual test -> choice -> filtering -> TCM/ERA -> tables."""
 
 import copy
+import inspect
 
 import numpy as np
 import pandas as pd
@@ -8,10 +9,11 @@ import pytest
 import yaml
 
 import modal
-import modal.grid_study as gs
+import modal.thesis.grid_study as gs
 from modal.experiment import shake_test
+from modal.grid import Grid
 from modal.io import save_record_npz, write_uff58
-from conftest import ROOT
+from workflow_run import ROOT
 
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())
 
@@ -44,7 +46,7 @@ def test_pipeline_tables(spec):
     assert set(identified["case"]) == set(spec["cases"])
     assert set(selection["seed"]) == {0, 1}
     assert (selection.groupby("seed").size() == spec["n_selected"]).all()
-    published = modal.tables.read_published(ROOT / "config/thesis_tables.csv")
+    published = modal.thesis.tables.read_published(ROOT / "config/thesis_tables.csv")
     for number in (10, 11, 12, 13, 14, 15):
         table = gs.grid_table(number, published[published["table"] == number], identified, selection, spec, 0)
         assert len(table) == (published["table"] == number).sum()
@@ -85,3 +87,15 @@ def test_bad_input(spec):
                                       "runs": {"tcm": {"method": "tcm", "cases": ["raw"], "n_identified": [3]}}})
     with pytest.raises(ValueError, match="grid.accelerometers"):
         gs.choose_accelerometers(rec, {**spec, "accelerometers": [0, 11]})
+
+
+def test_config_block_matches_the_defaults():
+    # the workflow's grid is the tuned model (the defaults), shaken as shake_test's defaults say
+    block = CONFIG["grid"]
+    assert Grid(**block["model"]) == Grid()
+    defaults = {k: p.default for k, p in inspect.signature(shake_test).parameters.items()}
+    for key, value in block["test"].items():
+        if key == "noise":
+            continue
+        expected = defaults[key]
+        assert (list(expected) if isinstance(expected, tuple) else expected) == value, key

@@ -9,12 +9,28 @@ import pandas as pd
 
 NOISE_FREE_SEED = -1
 
+#: Precision of every float the workflow writes to ``results/tables`` (six
+#: significant digits: the thesis prints at most four). Last-digit noise of
+#: the linear algebra (1e-14 on the beams, 1e-8 on the grid) would otherwise
+#: change the committed tables from one machine to the next.
+FLOAT_FORMAT = "%.6g"
 
-def read_published(path) -> pd.DataFrame:
-    """``config/thesis_tables.csv`` with ``printed`` kept as text and an
-    empty ``column`` as ``""``."""
+
+def write_csv(frame: pd.DataFrame, path) -> None:
+    """Write a results table with floats at :data:`FLOAT_FORMAT`."""
+    frame.to_csv(path, index=False, float_format=FLOAT_FORMAT, lineterminator="\n")
+
+
+def read_table(path) -> pd.DataFrame:
+    """A table of published values (``config/thesis_tables.csv``) or a tidy
+    comparison (``results/tables/table_NN.csv``): ``printed``, ``column``
+    and ``flag`` kept as text, an empty one as ``""``."""
     frame = pd.read_csv(path, dtype={"printed": str, "column": str, "flag": str})
     return frame.fillna({"column": "", "flag": ""})
+
+
+#: The published values of Tables 1-15 (``config/thesis_tables.csv``).
+read_published = read_table
 
 
 def decimals(printed: str) -> int:
@@ -129,7 +145,7 @@ def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spe
         Rows of ``thesis_tables.csv`` for this table.
     identified : mapping
         Interpretation name -> identified modes of the study (see
-        :func:`modal.study.run_study`).
+        :func:`modal.thesis.study.run_study`).
     spec : mapping
         ``case`` (the study's case) for Tables 1-4, 7-9; spillover tables
         (5, 6) take ``method`` and read ``n`` from the published column.
@@ -232,42 +248,44 @@ def _cell(row) -> str:
     return text
 
 
-def to_markdown(table: pd.DataFrame, title: str, notes: Sequence[str] = ()) -> str:
-    """The thesis's layout: one row per mode r, for every published column the
-    printed value and the reproduced one per interpretation."""
+def thesis_layout(table: pd.DataFrame) -> pd.DataFrame:
+    """The thesis's layout of a tidy table (:func:`compare`): one row per
+    mode r, for every published column the printed value and the reproduced
+    one per interpretation (:func:`_cell`), plus the model's true frequency
+    when the table has no "actual" column. Every cell is text."""
     table = table.copy()
     table["label"] = table["method"] + np.where(table["column"] != "", " " + table["column"], "")
     table = table.sort_values(["method", "column"], key=lambda c: c.map(METHOD_ORDER) if c.name == "method" else c,
                               kind="stable")
     labels = list(dict.fromkeys(table["label"]))
     interps = list(dict.fromkeys(table["interpretation"]))
-    header = ["r"]
+    modes = sorted(table["mode"].unique())
+    columns = {}
     for label in labels:
-        header.append(f"{label} (thesis)")
+        cells = table[table["label"] == label]
+        printed = cells.groupby("mode")["printed"].first()
+        columns[f"{label} (thesis)"] = [printed.get(m) if isinstance(printed.get(m), str) else "" for m in modes]
         if label.startswith(("actual", "est")):
-            header.append(f"{label} (exact)" if label.startswith("actual") else f"{label} (ours)")
+            first = cells.groupby("mode").head(1).set_index("mode")
+            name = f"{label} (exact)" if label.startswith("actual") else f"{label} (ours)"
+            columns[name] = [_cell(first.loc[m]) if m in first.index else "" for m in modes]
         else:
-            header += [f"{label} ({i})" for i in interps]
-    lines = [f"### {title}", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    for mode in sorted(table["mode"].unique()):
-        cells = [str(mode)]
-        for label in labels:
-            rows = table[(table["mode"] == mode) & (table["label"] == label)]
-            cells.append(rows["printed"].iloc[0] if len(rows) and isinstance(rows["printed"].iloc[0], str) else "")
-            if label.startswith(("actual", "est")):
-                cells.append(_cell(rows.iloc[0]) if len(rows) else "")
-            else:
-                for interp in interps:
-                    r = rows[rows["interpretation"] == interp]
-                    cells.append(_cell(r.iloc[0]) if len(r) else "")
-        lines.append("| " + " | ".join(cells) + " |")
+            for interp in interps:
+                rows = cells[cells["interpretation"] == interp].groupby("mode").head(1).set_index("mode")
+                columns[f"{label} ({interp})"] = [_cell(rows.loc[m]) if m in rows.index else "" for m in modes]
     if "actual" not in set(table["method"]) and table["actual"].notna().any():
         true = table.groupby("mode")["actual"].first()
-        lines[2] = lines[2][:-2] + " | true (model) |"
-        lines[3] += "---|"
-        for i, mode in enumerate(sorted(table["mode"].unique())):
-            value = true.get(mode, float("nan"))
-            lines[4 + i] += f" {value:.3f} |" if pd.notna(value) else "  |"
+        columns["true (model)"] = [f"{true[m]:.3f}" if pd.notna(true.get(m, np.nan)) else "" for m in modes]
+    return pd.DataFrame(columns, index=pd.Index(modes, name="r"))
+
+
+def to_markdown(table: pd.DataFrame, title: str, notes: Sequence[str] = ()) -> str:
+    """``table_NN.md``: the title, :func:`thesis_layout` as a pipe table, the notes."""
+    layout = thesis_layout(table)
+    header = ["r", *layout.columns]
+    lines = [f"### {title}", "", "| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for mode, row in layout.iterrows():
+        lines.append("| " + " | ".join([str(mode), *row]) + " |")
     if notes:
         lines += [""] + [f"- {note}" for note in notes]
     return "\n".join(lines) + "\n"

@@ -2,6 +2,7 @@
 determinism, failure hygiene and lint."""
 
 import copy
+import os
 import re
 import subprocess
 import sys
@@ -11,9 +12,11 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
-import modal.config
+import modal.thesis.config
 
-from conftest import ROOT, SMALL_CONFIG as SMALL, run_snakemake as snakemake
+from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake
+
+SMALL = yaml.safe_load((ROOT / SMALL_CONFIG_FILE).read_text())
 
 SCHEMA = str(ROOT / "workflow/schemas/config.schema.yaml")
 
@@ -25,14 +28,14 @@ def base_config():
 @pytest.fixture(scope="module")
 def workdir(small_workflow):
     """A copy of the workflow in a temporary directory with a small config
-    (conftest.small_workflow, shared with the notebook tests)."""
+    (tests/workflow/conftest.small_workflow, shared with the notebook tests)."""
     return small_workflow
 
 
 def test_config_is_valid():
     config = base_config()
     validate(config, SCHEMA)
-    modal.config.check(config)
+    modal.thesis.config.check(config)
 
 
 def _set(config, path, value):
@@ -93,7 +96,7 @@ def test_semantic_check_rejects(path, value, message):
     config = _set(copy.deepcopy(base_config()), path, value)
     validate(config, SCHEMA)
     with pytest.raises(ValueError, match=re.escape(message)):
-        modal.config.check(config)
+        modal.thesis.config.check(config)
 
 
 def test_invalid_config_stops_before_any_job(workdir, tmp_path):
@@ -143,20 +146,21 @@ def test_spillover_inclusion_note(workdir):
 
 def test_rerun_gives_identical_tables(workdir):
     before = {p.name: p.read_bytes() for p in (workdir / "results/tables").glob("*.csv")}
-    snakemake(workdir, "--configfile", "small.yaml", "--forceall")
+    snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forceall")
     after = {p.name: p.read_bytes() for p in (workdir / "results/tables").glob("*.csv")}
     assert before == after
 
 
 def test_nothing_to_do_when_up_to_date(workdir):
-    proc = snakemake(workdir, "--configfile", "small.yaml", "-n")
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "-n")
     assert "Nothing to be done" in proc.stdout + proc.stderr
 
 
 def test_config_edit_reruns_only_affected_jobs(workdir, tmp_path):
     edit = tmp_path / "edit.yaml"
     edit.write_text(yaml.safe_dump({**SMALL, "studies": {**SMALL["studies"],
-                                    "demo": {"cases": {"c4": {"damping": 0.01, "noise": 0.04}}}}}))
+                                    "demo": {"cases": {"c4": {"damping": 0.01, "noise": 0.04}}}}},
+                                   sort_keys=False))  # snakemake compares params in key order
     proc = snakemake(workdir, "--configfile", str(edit), "-n", "--rerun-triggers", "params", "input")
     out = proc.stdout + proc.stderr
     jobs = [line.split()[0] for line in out.splitlines() if line.strip() and line.split()[0] in
@@ -173,13 +177,13 @@ def test_failed_job_leaves_no_table_and_rerun_recovers(workdir):
         ident.write_text("not,a\nvalid,identified,table\n")
         table.unlink()
         # the target goes before --configfile, which takes several values
-        proc = snakemake(workdir, "results/tables/table_01.csv", "--configfile", "small.yaml", check=False)
+        proc = snakemake(workdir, "results/tables/table_01.csv", "--configfile", SMALL_CONFIG_FILE, check=False)
         assert proc.returncode != 0
         assert "Error in rule table" in proc.stdout + proc.stderr
         assert not table.exists()
     finally:
         ident.write_bytes(good)
-    snakemake(workdir, "--configfile", "small.yaml", "--rerun-incomplete", "results/tables/table_01.csv")
+    snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--rerun-incomplete", "results/tables/table_01.csv")
     assert table.exists()
 
 
@@ -208,3 +212,60 @@ def test_grid_end_to_end(workdir):
     for n in range(12, 22):
         assert (workdir / f"results/figures/figure_{n:02d}.png").read_bytes()[:4] == b"\x89PNG"
     assert "within 5 %" in (workdir / "results/tables/table_10.md").read_text()
+
+
+def planned_rules(workdir, *args):
+    """Rule names of the jobs ``snakemake -n`` plans (default rerun triggers)."""
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "-n", *args)
+    jobs = re.findall(r"^rule (\w+):", proc.stdout + proc.stderr, flags=re.M)
+    return set(jobs) - {"all"}
+
+
+@pytest.mark.parametrize("edited, expected", [
+    ("modal/thesis/plots.py", {"shape_figures", "noise_figures", "cera_sensitivity", "grid_figures", "notebook",
+                               "report_html"}),
+    ("workflow/report/report.html.j2", {"report_html"}),
+    ("modal/era.py", {"identify", "grid_identify"}),
+])
+def test_code_edit_reruns_only_what_depends_on_it(workdir, edited, expected):
+    """A cosmetic edit of the plotting module or a template reruns no
+    identification; an edit of era.py reruns the identifications (and, by
+    their outputs, what reads them)."""
+    path = workdir / edited
+    text, stat = path.read_bytes(), path.stat()
+    try:
+        path.write_bytes(text + b"\n# edited\n")
+        planned = planned_rules(workdir)
+    finally:
+        path.write_bytes(text)
+        os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    if edited == "modal/era.py":
+        assert expected <= planned
+    else:
+        assert planned == expected, planned
+        assert not planned & {"identify", "grid_identify", "table", "grid_table", "summary"}
+
+
+def test_rules_declare_relative_code_inputs(workdir):
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forceall", "-n", "--printshellcmds",
+                     "results/identified/demo_named.csv")
+    out = proc.stdout + proc.stderr
+    assert "modal/era.py" in out and str(workdir) not in out.split("Building DAG")[-1]
+
+
+def test_snakemake_files_are_snakefmt_formatted():
+    files = [str(ROOT / "Snakefile"), *map(str, sorted((ROOT / "workflow/rules").glob("*.smk")))]
+    proc = subprocess.run([sys.executable, "-m", "snakefmt", "--check", *files], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_script_runs_by_hand(workdir):
+    """Each script builds its own ``snakemake`` object (mock_snakemake) when run by hand."""
+    table = workdir / "results/tables/table_01.csv"
+    before = table.read_bytes()
+    table.unlink()
+    code = ("import runpy, sys; sys.path.insert(0, 'workflow/scripts'); from _helpers import mock_snakemake; "
+            "g = {'snakemake': mock_snakemake('table', configfiles=[%r], number='01')}; "
+            "runpy.run_path('workflow/scripts/table.py', init_globals=g)" % SMALL_CONFIG_FILE)
+    subprocess.run([sys.executable, "-c", code], cwd=workdir, check=True, capture_output=True, text=True)
+    assert table.read_bytes() == before

@@ -1,19 +1,24 @@
-"""modal.report's reproduction summary, its Markdown, the Markdown -> HTML
-converter and the self-contained HTML report, on small hand-made frames."""
+"""modal.thesis.report's reproduction summary and notes, and the HTML report
+(pandas tables in the jinja2 template), on small hand-made frames."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-import modal.report as report
-from modal.report import VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
+import modal.thesis.html as html
+import modal.thesis.report as report
+import modal.thesis.tables as tables
+from modal.thesis.report import VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
 
+from workflow_run import ROOT
+
+TEMPLATE = ROOT / "workflow/report/report.html.j2"
 PNG = b"\x89PNG\r\n\x1a\n" + b"\x00" * 16
 
 
 def row(mode, method, published, reproduced, interpretation="named", std=0.0, n_seeds=1, column="", flag="",
         printed=None, seed0_real_pole=False, real_pole_frac=0.0):
-    """One tidy row as modal.tables.compare writes it (printed_match, z, rel_dev derived the same way)."""
+    """One tidy row as modal.thesis.tables.compare writes it (printed_match, z, rel_dev derived the same way)."""
     if printed is None:
         printed = "-----" if flag == "absent" else "*" if flag == "real_pole" else f"{published:.4f}"
     digits = len(printed.split(".")[1]) if "." in printed else 0
@@ -137,70 +142,70 @@ def test_printed_real_pole_must_be_a_real_pole():
 
 
 def test_frames_as_read_from_csv(tmp_path):
-    """seed0_real_pole comes back from CSV as text/objects; title from the .md heading."""
+    """seed0_real_pole comes back from CSV as text/objects; titles come from config."""
     frame(*all_match()).to_csv(tmp_path / "table_01.csv", index=False)
-    (tmp_path / "table_01.md").write_text("### Table 1. Identified frequencies\n\n| r |\n|---|\n| 1 |\n")
     rows = all_match()
     rows[3] = row(1, "tcm", 2.1623, 3.0)
     frame(*rows).to_csv(tmp_path / "table_02.csv", index=False)
     tables = report.load_tables(tmp_path)
     assert sorted(tables) == [1, 2]
-    assert tables[1].attrs["title"] == "Identified frequencies"
     assert tables[1]["printed"].iloc[0] == "2.1623"
-    s = report.reproduction_summary(tables)
+    s = report.reproduction_summary(tables, titles={1: "Identified frequencies"})
     assert list(s["verdict"]) == [VERDICT_REPRODUCED, VERDICT_NOT]
     assert list(s["title"]) == ["Identified frequencies", ""]
     assert sorted(report.load_tables(tmp_path, numbers={2})) == [2]
 
 
-def test_summary_markdown_is_a_well_formed_pipe_table():
+def test_notes_round_trip(tmp_path):
+    notes = ["named: 6 of 6 match", "a note with | and *"]
+    report.write_notes(tmp_path / "table_01.txt", notes)
+    assert report.read_notes(tmp_path / "table_01.txt") == notes
+    assert report.read_notes(tmp_path / "absent.txt") == [] and report.read_notes(None) == []
+
+
+def test_summary_html_is_one_row_per_table():
     rows = all_match()
     rows[-1] = row(3, "era", 19.461, 25.0)
     tables = {1: frame(*all_match()), 2: frame(*rows), 3: frame(*noisy([0.5, -1.5, 1.9]))}
-    text = report.summary_markdown(report.reproduction_summary(tables, titles={1: "a | b"}))
-    table = [line for line in text.splitlines() if line.startswith("|")]
-    assert len(table) == 2 + 3
-    assert len({line.count("|") for line in table}) == 1  # no stray pipes inside cells
-    assert f"| {VERDICT_REPRODUCED} |" in table[2]
-    assert f"| {VERDICT_NOT}: 5 of 6 values match" in table[3]
-    assert f"| {VERDICT_NOISE} |" in table[4]
-    assert "Of 3 tables: 1 reproduced to the printed digits, 1 within noise spread, 1 not reproduced." in text
-    for definition in report.VERDICT_DEFINITIONS:
-        assert definition in text
-    assert "2/3" in text
-    assert report.VERDICT_DEFINITIONS[0] not in report.summary_markdown(
-        report.reproduction_summary(tables), definitions=False)
+    summary = report.reproduction_summary(tables, titles={1: "a <b>"})
+    shown = html.summary_frame(summary)
+    assert list(shown["Table"]) == [1, 2, 3]
+    assert list(shown["Verdict"]) == [VERDICT_REPRODUCED, VERDICT_NOT, VERDICT_NOISE]
+    # 25 against 19.461: 28.5 % off, in percent to three significant digits
+    assert shown["Largest abs. deviation"].iloc[1] == "28.5 %"
+    text = html.summary_html(summary)
+    assert text.count("<tr") == 1 + 3  # heading and three tables
+    assert "a &lt;b&gt;" in text  # escaped by pandas
 
 
-def test_markdown_to_html():
-    html = report.markdown_to_html("### Table 6. ERA <spillover>\n\n| r | era (thesis) |\n|---|---|\n"
-                                   "| 1 | * |\n| 2 | `8.87` |\n\n- named: a & b\n- lower: c\n\nSome **bold** text\ncontinued.\n")
-    assert "<h3>Table 6. ERA &lt;spillover&gt;</h3>" in html
-    assert "<thead><tr><th>r</th><th>era (thesis)</th></tr></thead>" in html
-    assert "<td>*</td>" in html and "<td><code>8.87</code></td>" in html
-    assert "<ul><li>named: a &amp; b</li><li>lower: c</li></ul>" in html
-    assert "<p>Some <strong>bold</strong> text continued.</p>" in html
-    assert "---" not in html
-
-
-def test_report_html_is_self_contained():
+def test_report_page_from_the_template(tmp_path):
     summary = report.reproduction_summary({1: frame(*all_match())}, titles={1: "Demo"})
-    html = report.report_html(summary, {1: "### Table 1. Demo\n\n| r | x |\n|---|---|\n| 1 | 2 |\n", 2: None},
-                              {1: PNG, 2: None}, {1: "Mode shapes <TCM>", 2: "Noise"},
-                              extras=[("Extra", "Some *words*", PNG, "Not in the thesis")], intro="Hello.")
-    assert html.startswith("<!DOCTYPE html>") and html.rstrip().endswith("</html>")
-    assert html.count("data:image/png;base64,") == 2
-    assert "<figcaption>Figure 1. Mode shapes &lt;TCM&gt;</figcaption>" in html
-    assert "Figures not produced yet: 2" in html and "Tables not produced yet: 2" in html
-    assert html.index('id="summary"') < html.index('id="tables"') < html.index('id="figures"')
-    assert VERDICT_REPRODUCED in html and "<p>Hello.</p>" in html
-    assert "src=\"http" not in html and "<link" not in html  # nothing fetched from elsewhere
+    png = tmp_path / "figure_01.png"
+    png.write_bytes(PNG)
+    page = html.render_report(
+        TEMPLATE, summary, report.VERDICT_DEFINITIONS,
+        {1: dict(title="Demo", frame=frame(*all_match()), notes=["a <note>"]), 2: dict(title="Later", frame=None)},
+        {1: dict(caption="Mode shapes <TCM>", png=png), 2: dict(caption="Noise", png=None)},
+        [dict(heading="Extra", caption="Not in the thesis", png=png)], {"config": "config/config.yaml"})
+    assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
+    assert page.count("data:image/png;base64,") == 2
+    assert "<figcaption>Figure 1. Mode shapes &lt;TCM&gt;</figcaption>" in page
+    assert "Figure 2 (Noise) not produced yet." in page
+    assert "<h3>Table 2. Later</h3>\n<p class=\"missing\">Not produced yet.</p>" in page
+    assert "<li>a &lt;note&gt;</li>" in page
+    assert page.index('id="summary"') < page.index('id="tables"') < page.index('id="figures"')
+    assert "Of 1 tables: 1 reproduced to the printed digits." in page
+    assert "src=\"http" not in page and "<link" not in page  # nothing fetched from elsewhere
+    # the thesis layout: one row per mode, the printed value beside ours
+    layout = tables.thesis_layout(frame(*all_match()).assign(actual=np.nan))
+    assert list(layout.index) == [1, 2, 3] and layout.loc[1, "tcm (thesis)"] == "2.1623"
+    assert layout.loc[1, "tcm (named)"] == "2.1623"
 
 
 def test_aggregate_matches_modes_across_real_poles():
     # Seed 1 loses mode 1 to a real pole: by position its entries would mix
     # modes; matched to the exact frequencies, every mode keeps its own values.
-    import modal.tables as mt
+    import modal.thesis.tables as mt
 
     rows = []
     exact = [2.0, 8.0, 18.0]

@@ -1,0 +1,71 @@
+"""Shared by the workflow's scripts: run a script by hand for debugging.
+
+Every script ends its imports with::
+
+    if "snakemake" not in globals():
+        snakemake = mock_snakemake("table", number="04")
+
+so ``python workflow/scripts/table.py`` (from the project root, or in
+IPython with ``%run``) builds the same ``snakemake`` object the workflow
+would hand the script, from the Snakefile and config, and runs it.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def mock_snakemake(rule: str, configfiles=(), **wildcards):
+    """The ``snakemake`` object of one job of ``rule`` (PyPSA-Eur's pattern).
+
+    Parameters
+    ----------
+    rule : str
+        A rule of the Snakefile, e.g. ``"table"``.
+    configfiles : sequence of path, optional
+        Configs layered over ``config/config.yaml`` (``--configfile``),
+        e.g. ``["config/test/config.small.yaml"]``.
+    **wildcards
+        The job's wildcards, e.g. ``number="04"``.
+
+    The job's inputs must exist (run the workflow up to them first); its
+    outputs and log are written where the workflow would write them.
+    """
+    from snakemake.api import SnakemakeApi
+    from snakemake.script import Snakemake
+    from snakemake.settings.types import (ConfigSettings, DAGSettings, OutputSettings, ResourceSettings,
+                                          StorageSettings)
+
+    if Path.cwd().resolve() != ROOT:
+        raise RuntimeError(f"run scripts from the project root {ROOT} (the workflow's working directory)")
+    with SnakemakeApi(OutputSettings(quiet={"all"})) as api:
+        workflow_api = api.workflow(
+            resource_settings=ResourceSettings(),
+            config_settings=ConfigSettings(configfiles=[Path(f).resolve() for f in configfiles]),
+            storage_settings=StorageSettings(),
+            snakefile=ROOT / "Snakefile",
+            workdir=ROOT,
+        )
+        workflow = workflow_api._workflow
+        job_rule = workflow.get_rule(rule)
+        wildcards = {k: str(v) for k, v in wildcards.items()}
+        # expand the rule for these wildcards exactly as the scheduler would
+        from snakemake.dag import DAG
+        from snakemake.jobs import Job
+
+        workflow.dag_settings = DAGSettings()
+        dag = DAG(workflow, rules=[job_rule])
+        job = Job(job_rule, dag, wildcards_dict=wildcards)
+        for path in [*job.output, *job.log]:
+            os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
+        return Snakemake(job.input, job.output, job.params, job.wildcards, job.threads, job.resources,
+                         job.log, workflow.config, job.rule.name, None)
+
+
+def redirect_log(snakemake) -> None:
+    """Send the script's warnings and errors to the rule's (first) log file."""
+    sys.stderr = open(snakemake.log[0], "w")
