@@ -15,7 +15,9 @@ from ..era import era
 from ..experiment import pick_peaks, select_sharpest, sharpness, shake_test
 from ..grid import THESIS_ESTIMATES_HZ, Grid
 from ..io import load_record
+from ..result import FLAGS
 from ..signals import lowpass_fft, split_record
+from .study import flags_recorded
 from .tables import aggregate, decimals, inclusion_holds, match_to_reference
 from ..tcm import tcm
 
@@ -119,8 +121,9 @@ def run_grid_study(records: Mapping[int, GridRecord], spec: Mapping) -> tuple[pd
                 if case not in settings["cases"]:
                     continue
                 for n in settings.get("n_identified", [settings.get("n_modes")]):
-                    result = _identify(y, rec.dt, settings, n)
-                    frame = result.to_frame()[["mode", "omega", "freq_hz", "real_pole"]]
+                    with flags_recorded():
+                        result = _identify(y, rec.dt, settings, n)
+                    frame = result.to_frame()[["mode", "omega", "freq_hz", *FLAGS]]
                     frame.insert(0, "cols", settings.get("cols", -1))
                     frame.insert(0, "sets", settings.get("sets", 1))
                     frame.insert(0, "n", n)

@@ -7,13 +7,16 @@ The Snakemake scripts only read files and call these functions.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Mapping
+from contextlib import contextmanager
 
 import numpy as np
 import pandas as pd
 
 from ..cera import cera
 from ..era import era
+from ..result import ModalWarning
 from ..simulate import Record, beam_impulse_response, with_noise
 from ..structures import SimplySupportedBeam
 from ..tcm import tcm
@@ -38,6 +41,16 @@ def beam_record(spec: Mapping, damping: float) -> Record:
     return beam_impulse_response(beam, spec["n_modes"], station * spec["impact"], sensors, dt, spec["n_samples"], damping)
 
 
+@contextmanager
+def flags_recorded():
+    """Silence :class:`~modal.ModalWarning` inside: the thesis layer writes every
+    flag to its identified-modes files instead (thousands of seeds would
+    otherwise print thousands of warnings)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModalWarning)
+        yield
+
+
 def identify(record: Record, method: str, settings: Mapping, signals, channels=None):
     """Identify modes of ``record`` with one method.
 
@@ -55,6 +68,11 @@ def identify(record: Record, method: str, settings: Mapping, signals, channels=N
     channels : sequence of int, optional
         Subset of sensors (0-based), e.g. the first n for spillover.
     """
+    with flags_recorded():
+        return _identify(record, method, settings, signals, channels)
+
+
+def _identify(record, method, settings, signals, channels):
     pick = slice(None) if channels is None else list(channels)
     for name in [signals] if isinstance(signals, str) else signals:
         if name not in SIGNAL_ORDER:
