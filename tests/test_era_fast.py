@@ -119,12 +119,15 @@ def test_falls_back_when_residual_check_fails():
     p, d, qt, sv = decompose(h0, order, method="gram")
     assert sv.size == n_rows
     np.testing.assert_allclose(d, sigma[:order], rtol=1e-6)
-    # the same matrix, with a clear gap after the 24th value, stays on the Gram route
-    sigma[order:] *= 1e-6
-    h0 = (u * sigma) @ v.T
-    p, d, qt, sv = decompose(h0, order, method="gram")
-    assert sv.size == order
-    np.testing.assert_allclose(d, sigma[:order], rtol=1e-8)
+    # a gap of 10 after the 24th value: one Rayleigh-Ritz step leaves a residual
+    # of ~1e-12, a second passes the check; a gap of 1e6: one step suffices
+    for gap in (10, 1e6):
+        sigma[order:] = 1e-6 / gap * np.logspace(0, -3, n_rows - order)
+        h0 = (u * sigma) @ v.T
+        p, d, qt, sv = decompose(h0, order, method="gram")
+        assert sv.size == order
+        np.testing.assert_allclose(d, sigma[:order], rtol=1e-8)
+        np.testing.assert_allclose(np.abs(np.sum(p * u[:, :order], axis=0)), 1, atol=1e-6)
 
 
 def _noisy_record(n_channels=12, n_samples=8000, seed=0):
