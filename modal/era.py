@@ -175,7 +175,7 @@ def _gram_triplets(h0, order, block):
         l, m = block
         gram = block_hankel_gram(a, *((m, l) if transpose else (l, m)))
     n = gram.shape[0]
-    lam, u = eigh(gram, subset_by_index=[n - order, n - 1])
+    lam, u = eigh(gram, subset_by_index=[n - order, n - 1], overwrite_a=True)
     lam, u = lam[::-1], u[:, ::-1]
     # The Gram matrix carries rounding errors of about eps lambda_1 times the
     # length of its sums: where they swamp lambda_order its eigenvectors hold no
