@@ -85,9 +85,10 @@ DECOMPOSE_METHODS = ("auto", "full", "gram")
 GRAM_MIN_SIZE = 200
 #: Rayleigh-Ritz steps tried before falling back to the thin SVD.
 GRAM_MAX_STEPS = 3
-#: A triplet is accepted when its residual ``||H(0)^T p - sigma q||`` is below
-#: ``GRAM_REL_TOL * sigma`` or ``GRAM_ABS_TOL * sigma_1`` (a backward error of the
-#: order of a thin SVD's; the larger of the two is used).
+#: A triplet is accepted when its residual ``||H(0)^T p - sigma q||`` is below the
+#: larger of ``GRAM_REL_TOL * sigma`` and ``GRAM_ABS_TOL * sigma_1``: it is then an
+#: exact triplet of a matrix within that distance of ``H(0)`` (a thin SVD's own
+#: rounding is some 1e-15 ``sigma_1``).
 GRAM_REL_TOL = 1e-12
 GRAM_ABS_TOL = 1e-13
 
@@ -106,8 +107,9 @@ def decompose(h0, order, method="auto", block=None):
     checked; while it exceeds :data:`GRAM_REL_TOL` ``sigma`` and
     :data:`GRAM_ABS_TOL` ``sigma_1`` another step is taken, and after
     :data:`GRAM_MAX_STEPS` (or at once, when the Gram matrix's rounding already
-    swamps ``sigma_order^2``) the thin SVD is used instead, so the triplets are
-    never less accurate than a backward error of that order.
+    swamps ``sigma_order^2``) the thin SVD is used instead. Accepted triplets
+    are thus exact for a matrix within 1e-13 ``sigma_1`` (or 1e-12 ``sigma``) of
+    ``H(0)``; anything less accurate is never returned.
 
     Parameters
     ----------
@@ -124,6 +126,7 @@ def decompose(h0, order, method="auto", block=None):
         Block shape of ``H(0)`` (sensors, data sets) when it is a block Hankel
         matrix of Eq. (34), so the Gram matrix is built from its first block row
         and last block column; without it the Gram matrix is a plain product.
+        Checked: ``H(0)`` must be block Hankel with these blocks.
 
     Returns
     -------
@@ -143,6 +146,8 @@ def decompose(h0, order, method="auto", block=None):
     n_short = min(h0.shape)
     if order > n_short:
         raise ValueError(f"order = {order} exceeds the smaller dimension of h0 {h0.shape}")
+    if block is not None:
+        _check_block(h0, block)
     use_gram = method == "gram" or (method == "auto" and n_short >= max(GRAM_MIN_SIZE, 4 * order))
     if use_gram and order < n_short:
         triplets = _gram_triplets(h0, order, block)
@@ -159,6 +164,16 @@ def _decompose_method(name, value):
     if not isinstance(value, str) or value not in DECOMPOSE_METHODS:
         raise ValueError(f"{name} must be one of {', '.join(map(repr, DECOMPOSE_METHODS))}, got {value!r}")
     return value
+
+
+def _check_block(h0, block):
+    """Raise unless ``h0`` is a block Hankel matrix with ``block = (l, m)`` blocks."""
+    try:
+        l, m = (positive_int("block", b) for b in block)
+    except (TypeError, ValueError):
+        raise ValueError(f"block must be a pair (l, m) of positive integers, got {block!r}") from None
+    if h0.shape[0] % l or h0.shape[1] % m or not np.array_equal(h0[l:, :-m], h0[:-l, m:]):
+        raise ValueError(f"block = {block!r}: h0 {h0.shape} is not a block Hankel matrix with {l} x {m} blocks")
 
 
 def _gram_triplets(h0, order, block):

@@ -201,3 +201,12 @@ def test_decompose_order_checked():
         decompose(np.ones((5, 8)), 6)
     with pytest.raises(ValueError, match="order"):
         decompose(np.ones((5, 8)), 0)
+
+
+def test_block_checked():
+    h0 = modal.hankel(np.random.default_rng(0).standard_normal((90, 3)), 10, 40)
+    for bad in [(4, 1), (3, 2), (0, 1), 3, ("3", 1)]:
+        with pytest.raises(ValueError, match="block"):
+            decompose(h0, 4, method="gram", block=bad)
+    with pytest.raises(ValueError, match="not a block Hankel"):
+        decompose(np.random.default_rng(1).standard_normal(h0.shape), 4, method="gram", block=(3, 1))
