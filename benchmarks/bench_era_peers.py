@@ -112,7 +112,8 @@ def main():
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"# {platform.machine()}, {os.cpu_count()} cores, load average {load:.2f}, numpy {np.__version__}, "
           f"single-threaded BLAS, {args.rounds} rounds, 480 x 2000 Hankel, order 24\n")
-    print("| implementation | median ms | time / thin SVD (median of rounds) | max rel. freq. deviation from full-SVD ERA |")
+    print("| implementation | median ms | time / thin SVD (median of rounds) "
+          "| max rel. freq. deviation from full-SVD ERA |")
     print("|---|---|---|---|")
     for name, t in times.items():
         t = np.array(t)
