@@ -13,18 +13,25 @@ from .result import UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, sho
 REAL_POLE_TOL = 1e-10
 
 
-def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
+def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
     """Identify modes with the ERA.
 
     Builds ``H(k-1)`` and ``H(k)`` of Eq. (34) from one Hankel with ``rows + 1``
-    block rows, takes the thin SVD ``H(0) = U S V^T`` (Eq. 35), keeps the
+    block rows, takes the SVD ``H(0) = U S V^T`` (Eq. 35), keeps the
     ``2 n_modes`` largest singular values ``P D Q^T`` (Sec. 4.4), realizes
     ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` and ``H = E_p^T P D^{1/2}``
     (Eqs. 41, 43), solves ``Phi psi = psi z`` (Eq. 42) and maps
     ``s = ln z / dt`` (Eq. 44, j = 0). The natural frequency is ``|s|`` and
     the damping ratio ``-Re s / |s|``; mode shapes are ``E_p^T P D^{1/2} psi``
     (Eq. 45). Each complex-conjugate pair gives one mode; a real eigenvalue
-    gives one entry flagged ``real_pole`` (its damping is NaN).
+    gives one entry flagged ``real_pole`` (its damping is NaN). Entries with
+    ``|z| > 1`` are flagged ``unstable``, damped frequencies within 2 % of the
+    Nyquist frequency ``pi / dt`` ``aliased``, and modes with fewer than six
+    periods in the ``(rows + cols) dt`` seconds the Hankel matrix spans
+    ``short_window``; a :class:`~modal.ModalWarning` names them.
+
+    The data are divided by a power of two near their peak before the Hankel
+    matrix is formed, so results do not depend on units or scale.
 
     Parameters
     ----------
@@ -38,13 +45,21 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
         Block rows ``r`` and block columns ``s`` of Eq. (34).
     start : int
         First sample used (``k - 1`` in Eq. 34).
+    svd : {"auto", "full", "gram"}
+        How the ``2 n`` leading singular triplets of ``H(0)`` are computed (see
+        :func:`decompose`): ``"full"`` thin SVD, ``"gram"`` the Gram matrix's
+        eigenvectors refined by Rayleigh-Ritz and checked (falling back to the
+        thin SVD when the check fails), ``"auto"`` the Gram route for Hankel
+        matrices whose shorter side is at least :data:`GRAM_MIN_SIZE`.
 
     Returns
     -------
     ModalResult
-        With ``mamc``, ``mpc``, all ``singular_values`` of ``H(0)`` and the
-        discrete eigenvalues ``z`` (one per mode).
+        With ``mamc``, ``mpc``, the ``singular_values`` of ``H(0)`` (all of them
+        from the thin SVD; the ``2 n`` leading ones from the Gram route) and
+        the discrete eigenvalues ``z`` (one per mode).
     """
+    svd = _decompose_method("svd", svd)
     y = records("y", y)
     dt = positive_float("dt", dt)
     n_modes = positive_int("n_modes", n_modes)
@@ -60,7 +75,7 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
     scale = unit_scale(y)
     h_ext = hankel(y / scale, rows + 1, cols, start)
     h0, h1 = h_ext[:-l], h_ext[l:]
-    p, d, qt, sv = decompose(h0, order)
+    p, d, qt, sv = decompose(h0, order, method=svd, block=(l, m))
     if d[-1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
         raise ValueError(
             f"n_modes = {n_modes}: the Hankel matrix has fewer than {order} non-zero "
@@ -71,8 +86,57 @@ def era(y, dt, n_modes, rows, cols, start=0) -> ModalResult:
     return warn_flags(result, (rows + cols) * dt)
 
 
-def decompose(h0, order):
+#: ``decompose`` methods: ``"full"`` is the thin SVD, ``"gram"`` the Gram matrix's
+#: eigenvectors refined by Rayleigh-Ritz, ``"auto"`` the latter where it pays.
+DECOMPOSE_METHODS = ("auto", "full", "gram")
+#: ``"auto"`` takes the Gram path when the smaller side of ``H(0)`` is at least
+#: this long and at least 4 x the order; below, the thin SVD costs a few ms anyway
+#: (and the thesis's own Hankel matrices, 144 x 100 to 192 x 150, stay on it).
+GRAM_MIN_SIZE = 200
+#: Rayleigh-Ritz steps tried before falling back to the thin SVD.
+GRAM_MAX_STEPS = 3
+#: A triplet is accepted when its residual ``||H(0)^T p - sigma q||`` is below the
+#: larger of ``GRAM_REL_TOL * sigma`` and ``GRAM_ABS_TOL * sigma_1``: it is then an
+#: exact triplet of a matrix within that distance of ``H(0)`` (a thin SVD's own
+#: rounding is some 1e-15 ``sigma_1``).
+GRAM_REL_TOL = 1e-12
+GRAM_ABS_TOL = 1e-13
+
+
+def decompose(h0, order, method="auto", block=None):
     """The ``order`` dominant singular triplets of ``H(0)`` (Eq. 35, Sec. 4.4).
+
+    The ERA needs only the ``2 n`` leading triplets ``P D Q^T``, not the whole
+    thin SVD. ``method="gram"`` takes them from the symmetric eigenproblem of
+    the Gram matrix of ``H(0)``'s shorter side (``H H^T`` or ``H^T H``; with
+    ``block`` given it is summed from Eq. 34's shift structure, without a product
+    of the whole Hankel matrix), then refines them by Rayleigh-Ritz on ``H(0)``
+    itself: ``Q_w = orth(H^T U)``, thin SVD of ``H Q_w`` (a ``l r x order``
+    matrix), which undoes the Gram matrix's squared condition number as far as
+    the subspace allows. Each triplet's residual ``||H^T p - sigma q||`` is then
+    checked; while it exceeds :data:`GRAM_REL_TOL` ``sigma`` and
+    :data:`GRAM_ABS_TOL` ``sigma_1`` another step is taken, and after
+    :data:`GRAM_MAX_STEPS` (or at once, when the Gram matrix's rounding already
+    swamps ``sigma_order^2``) the thin SVD is used instead. Accepted triplets
+    are thus exact for a matrix within 1e-13 ``sigma_1`` (or 1e-12 ``sigma``) of
+    ``H(0)``; anything less accurate is never returned.
+
+    Parameters
+    ----------
+    h0 : ndarray, shape (l r, m s)
+        ``H(0)`` of Eq. (34).
+    order : int
+        Number of triplets (the model order ``2 n``).
+    method : {"auto", "full", "gram"}
+        ``"full"``: thin SVD by LAPACK gesdd. ``"gram"``: as above (falling back
+        to ``"full"`` when the check fails). ``"auto"``: ``"gram"`` when the
+        shorter side of ``H(0)`` is at least :data:`GRAM_MIN_SIZE` and
+        ``4 order``, else ``"full"``.
+    block : tuple (l, m), optional
+        Block shape of ``H(0)`` (sensors, data sets) when it is a block Hankel
+        matrix of Eq. (34), so the Gram matrix is built from its first block row
+        and last block column; without it the Gram matrix is a plain product.
+        Checked: ``H(0)`` must be block Hankel with these blocks.
 
     Returns
     -------
@@ -83,12 +147,115 @@ def decompose(h0, order):
     qt : ndarray, shape (order, m s)
         Leading right singular vectors ``Q^T``.
     singular_values : ndarray
-        Every singular value computed (all of them for the full SVD).
+        Every singular value computed: all ``min(l r, m s)`` of them for the
+        thin SVD, the ``order`` leading ones (equal to ``d``) for the Gram path.
     """
+    method = _decompose_method("method", method)
+    h0 = np.asarray(h0, dtype=float)
+    order = positive_int("order", order)
+    n_short = min(h0.shape)
+    if order > n_short:
+        raise ValueError(f"order = {order} exceeds the smaller dimension of h0 {h0.shape}")
+    if block is not None:
+        _check_block(h0, block)
+    use_gram = method == "gram" or (method == "auto" and n_short >= max(GRAM_MIN_SIZE, 4 * order))
+    if use_gram and order < n_short:
+        triplets = _gram_triplets(h0, order, block)
+        if triplets is not None:
+            return (*triplets, triplets[1])
     # Thin SVD (Eq. 35) by LAPACK gesdd; numpy hands the C-ordered H(0) to
     # LAPACK as its transpose without a copy, which scipy.linalg.svd does not.
     u, sv, vt = np.linalg.svd(h0, full_matrices=False)
     return u[:, :order], sv[:order], vt[:order], sv
+
+
+def _decompose_method(name, value):
+    """``value`` if it names one of :data:`DECOMPOSE_METHODS`."""
+    if not isinstance(value, str) or value not in DECOMPOSE_METHODS:
+        raise ValueError(f"{name} must be one of {', '.join(map(repr, DECOMPOSE_METHODS))}, got {value!r}")
+    return value
+
+
+def _check_block(h0, block):
+    """Raise unless ``h0`` is a block Hankel matrix with ``block = (l, m)`` blocks."""
+    try:
+        l, m = (positive_int("block", b) for b in block)
+    except (TypeError, ValueError):
+        raise ValueError(f"block must be a pair (l, m) of positive integers, got {block!r}") from None
+    if h0.shape[0] % l or h0.shape[1] % m or not np.array_equal(h0[l:, :-m], h0[:-l, m:]):
+        raise ValueError(f"block = {block!r}: h0 {h0.shape} is not a block Hankel matrix with {l} x {m} blocks")
+
+
+def _gram_triplets(h0, order, block):
+    """Leading triplets of ``h0`` by the Gram route of :func:`decompose`, or
+    ``None`` when they do not pass the residual check (the caller then takes
+    the thin SVD)."""
+    from scipy.linalg import eigh, qr  # scipy is imported only where it is used
+
+    transpose = h0.shape[0] > h0.shape[1]
+    a = h0.T if transpose else h0  # the Gram matrix is a a^T, of a's shorter side
+    if block is None:
+        gram = a @ a.T
+    else:
+        l, m = block
+        gram = block_hankel_gram(a, *((m, l) if transpose else (l, m)))
+    n = gram.shape[0]
+    lam, u = eigh(gram, subset_by_index=[n - order, n - 1], overwrite_a=True)
+    lam, u = lam[::-1], u[:, ::-1]
+    # The Gram matrix carries rounding errors of about eps lambda_1 times the
+    # length of its sums: where they swamp lambda_order its eigenvectors hold no
+    # information about the weakest triplets, and no refinement can restore it.
+    if lam[-1] <= max(a.shape) * np.finfo(float).eps * lam[0]:
+        return None
+    z = a.T @ u
+    for _ in range(GRAM_MAX_STEPS):
+        # Rayleigh-Ritz on a itself: a (a^T u) spans the wanted left subspace with
+        # the unwanted directions damped by sigma_{order+1} / sigma_order.
+        q_w = qr(z, mode="economic")[0]
+        ub, sv, vbt = np.linalg.svd(a @ q_w, full_matrices=False)
+        q = q_w @ vbt.T
+        z = a.T @ ub
+        residual = np.linalg.norm(z - q * sv, axis=0)
+        if np.all(residual <= np.maximum(GRAM_REL_TOL * sv, GRAM_ABS_TOL * sv[0])):
+            break
+    else:
+        return None
+    p, qt = ub, q.T
+    if transpose:
+        p, qt = qt.T, p.T
+    return p, sv, qt
+
+
+def block_hankel_gram(a, rows_per_block, cols_per_block):
+    """``a a^T`` for a block Hankel matrix ``a`` (blocks ``Y(i + j)`` of shape
+    ``rows_per_block x cols_per_block``, as in Eq. 34), without the full product.
+
+    Block ``(i, j)`` of the Gram matrix is ``sum_k Y(i + k) Y(j + k)^T`` over the
+    ``s`` block columns, so it follows from block ``(i - 1, j - 1)`` by adding
+    ``Y(i - 1 + s) Y(j - 1 + s)^T`` and removing ``Y(i - 1) Y(j - 1)^T``: only the
+    first block row costs a product with ``a``, the rest is a cumulative sum
+    along the block diagonals.
+    """
+    bl, bm = rows_per_block, cols_per_block
+    r, s = a.shape[0] // bl, a.shape[1] // bm
+    gram = np.empty((r * bl, r * bl))
+    gram[:bl] = a[:bl] @ a.T
+    if r > 1:
+        # Every Y(t), t = 0 .. r+s-2: the first block row, then the last block column.
+        samples = np.concatenate([
+            a[:bl].reshape(bl, s, bm).transpose(1, 0, 2),
+            a[bl:, (s - 1) * bm:].reshape(r - 1, bl, bm),
+        ])
+        head = samples[: r - 1].reshape((r - 1) * bl, bm)
+        tail = samples[s:].reshape((r - 1) * bl, bm)
+        step = tail @ tail.T - head @ head.T  # block (t, u): Y(t+s) Y(u+s)^T - Y(t) Y(u)^T
+        for i in range(1, r):
+            gram[i * bl:(i + 1) * bl, i * bl:] = (
+                gram[(i - 1) * bl:i * bl, (i - 1) * bl:-bl] + step[(i - 1) * bl:i * bl, (i - 1) * bl:]
+            )
+    upper = np.triu(np.ones((r, r), dtype=bool))
+    mask = np.kron(upper, np.ones((bl, bl), dtype=bool))
+    return np.where(mask, gram, gram.T)
 
 
 def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=np.inf) -> ModalResult:

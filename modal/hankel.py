@@ -35,6 +35,7 @@ def hankel(y: np.ndarray, rows: int, cols: int, start: int = 0) -> np.ndarray:
             f"rows + cols - 1 = {rows + cols - 1} samples from start = {start} need "
             f"{needed} samples, but the record has {n_samples}: reduce rows or cols"
         )
-    idx = start + np.arange(rows)[:, None] + np.arange(cols)[None, :]
-    blocks = y[:, idx, :]  # (m, r, s, l)
-    return np.ascontiguousarray(blocks.transpose(1, 3, 2, 0)).reshape(rows * l, cols * m)
+    # A strided view (m, r, l, s) of the record, element [k, i, c, j] = y[k, start+i+j, c],
+    # copied once into the (block row, sensor) x (block column, data set) layout.
+    windows = np.lib.stride_tricks.sliding_window_view(y, cols, axis=1)[:, start:start + rows]
+    return np.ascontiguousarray(windows.transpose(1, 2, 3, 0)).reshape(rows * l, cols * m)

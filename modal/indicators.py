@@ -90,7 +90,12 @@ def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
     n_modes, width = histories.shape
     s = width // n_sets
     b = histories[:, :n_sets]  # (n, m)
-    powers = z[:, None] ** np.arange(s)[None, :]  # (n, s)
+    # z^j, j = 0 .. s-1, as a running product: 30 x faster than a complex power,
+    # and its rounding (about s eps relative) is immaterial to an indicator
+    z = np.asarray(z)
+    factors = np.broadcast_to(z[:, None], (n_modes, s)).copy()
+    factors[:, 0] = 1
+    powers = np.cumprod(factors, axis=1)  # (n, s)
     ideal = (powers[:, :, None] * b[:, None, :]).reshape(n_modes, width)
     num = np.abs(np.sum(histories * ideal.conj(), axis=1))
     den = np.linalg.norm(histories, axis=1) * np.linalg.norm(ideal, axis=1)

@@ -65,8 +65,9 @@ class ModalResult:
     mamc, mpc : ndarray
         Modal amplitude coherence and modal phase collinearity (ERA), NaN otherwise.
     singular_values : ndarray
-        All singular values of the Hankel matrix (ERA, CERA) for order selection,
-        or the eigenvalues of the correlation matrix ``A`` (TCM).
+        Singular values of the Hankel matrix for order selection (CERA and the
+        ERA's thin SVD: all of them; the ERA's Gram route: the ``2 n`` leading
+        ones), or the eigenvalues of the correlation matrix ``A`` (TCM).
     eigenvalues : ndarray
         The raw eigenvalues the frequencies came from (``z`` for ERA, ``lambda``
         for TCM/CERA).

@@ -1,0 +1,213 @@
+"""The ERA's fast decomposition: leading singular triplets of H(0) from its Gram
+matrix, refined by Rayleigh-Ritz and checked, against closed form and the thin SVD."""
+
+import sys
+
+import numpy as np
+import pytest
+
+import modal
+
+era_module = sys.modules["modal.era"]  # ``modal.era`` is the function
+decompose, realise, block_hankel_gram = era_module.decompose, era_module.realise, era_module.block_hankel_gram
+
+THESIS_SAMPLES = 3594
+IRREGULAR = np.array([0.4, 1.1, 1.9, 2.3, 3.05, 3.7, 4.45])  # off the thesis's iL/7
+
+
+def _took_gram(h0, order, block):
+    """True when ``decompose`` kept the Gram route (it then returns ``order``
+    singular values; the thin SVD returns all of them)."""
+    return decompose(h0, order, method="gram", block=block)[3].size == order
+
+
+def _exact(res, omega, zeta, rtol=1e-8):
+    np.testing.assert_allclose(np.sort(res.omega), omega, rtol=rtol)
+    np.testing.assert_allclose(res.damping, zeta, rtol=rtol, atol=1e-10)
+    assert not res.real_pole.any()
+
+
+@pytest.mark.parametrize("signal", ["displacement", "velocity", "acceleration"])
+@pytest.mark.parametrize("zeta", [0.0, 0.005, 0.02, 0.05])
+def test_gram_route_exact_on_thesis_beam(demo, signal, zeta):
+    rec = demo["make"](THESIS_SAMPLES, damping=zeta)
+    y = getattr(rec, signal)
+    res = modal.era(y, demo["dt"], 6, rows=24, cols=100, svd="gram")
+    _exact(res, demo["omega"], zeta)
+    assert res.singular_values.size == 12  # the Gram route was kept, not the fallback
+    assert np.all(np.diag(modal.mac(res.shapes, rec.shapes)) > 0.9999)
+
+
+def test_auto_takes_gram_route_off_thesis_geometry(beam):
+    """7 irregular sensors, 2 data sets (impulses at two points), 320 x 600 Hankel:
+    "auto" takes the Gram route there and is exact."""
+    omega = beam.natural_frequencies(5)
+    dt = 2 * np.pi / omega[-1] / 12
+    sets = [modal.beam_impulse_response(beam, 5, x, IRREGULAR, dt, 800, 0.01).velocity for x in (1.3, 3.4)]
+    y = np.stack(sets)
+    res = modal.era(y, dt, 5, rows=40, cols=300)
+    _exact(res, omega, 0.01)
+    assert res.singular_values.size == 10
+    h0 = modal.hankel(y, 40, 300)
+    assert _took_gram(h0, 10, (7, 2))
+
+
+def _hard_beam(beam, modes=7, per_period=80, damping=0.01):
+    """Displacements sampled 80 times per period of the highest mode: the
+    singular values of H(0) span six decades (sigma_14 / sigma_1 ~ 2e-6), so
+    the Gram matrix's eigenvectors are wrong in the third digit."""
+    omega = beam.natural_frequencies(modes)
+    dt = 2 * np.pi / omega[-1] / per_period
+    rec = modal.beam_impulse_response(beam, modes, 1.3, IRREGULAR, dt, 6000, damping)
+    return rec.displacement, dt, omega
+
+
+def test_many_decades_refinement_restores_exactness(beam):
+    y, dt, omega = _hard_beam(beam)
+    rows, cols, l = 40, 400, y.shape[1]
+    h = modal.hankel(y, rows + 1, cols)
+    h0, h1 = h[:-l], h[l:]
+    sv = np.linalg.svd(h0, compute_uv=False)
+    assert sv[13] / sv[0] < 1e-5  # the case is what it claims to be
+
+    # The Gram matrix's eigenvectors alone: frequencies off far beyond 1e-8.
+    gram = block_hankel_gram(h0, l, 1)
+    lam, u = np.linalg.eigh(gram)
+    u, d = u[:, ::-1][:, :14], np.sqrt(lam[::-1][:14])
+    raw = realise(u, d, (u.T @ h0) / d[:, None], h1, l, 1, dt)
+    assert raw.omega.size != 7 or np.max(np.abs(np.sort(raw.omega) / omega - 1)) > 1e-6
+
+    # Refined: kept on the Gram route, and exact.
+    assert _took_gram(h0, 14, (l, 1))
+    res = modal.era(y, dt, 7, rows, cols, svd="gram")
+    assert res.singular_values.size == 14
+    # damping ratio to 1e-8 absolute (-Re s to 1e-8 |s|): at this conditioning the
+    # thin SVD itself misses 0.01 by ~1e-9
+    np.testing.assert_allclose(res.omega, omega, rtol=1e-8)
+    np.testing.assert_allclose(res.damping, 0.01, atol=1e-8)
+    full = modal.era(y, dt, 7, rows, cols, svd="full")
+    errors = [(res.omega / omega - 1, full.omega / omega - 1), (res.damping - 0.01, full.damping - 0.01)]
+    for fast_err, full_err in errors:
+        assert np.max(np.abs(fast_err)) <= 3 * np.max(np.abs(full_err)) + 1e-12  # no worse than the thin SVD
+
+
+def test_falls_back_when_gram_matrix_cannot_resolve(beam):
+    """sigma_12 / sigma_1 ~ 3e-9: lambda_12 sits below the Gram matrix's rounding,
+    so the thin SVD is used and the result is the full-SVD ERA's."""
+    y, dt, _ = _hard_beam(beam, modes=6, per_period=200)
+    h0 = modal.hankel(y, 40, 400)
+    p, d, qt, sv = decompose(h0, 12, method="gram", block=(7, 1))
+    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    assert sv.size == min(h0.shape)
+    np.testing.assert_array_equal(d, s[:12])
+    np.testing.assert_array_equal(p, u[:, :12])
+    gram = modal.era(y, dt, 6, 40, 400, svd="gram")
+    full = modal.era(y, dt, 6, 40, 400, svd="full")
+    np.testing.assert_array_equal(gram.omega, full.omega)
+
+
+def test_falls_back_when_residual_check_fails():
+    """A plain matrix (no block structure) whose 24th singular value is 1e-6 of the
+    first and the 25th half of it: the Gram eigenvectors are wrong to ~1e-4 and
+    Rayleigh-Ritz gains only a factor 2 a step, so the residual check must send
+    it to the thin SVD."""
+    rng = np.random.default_rng(7)
+    n_rows, n_cols, order = 240, 500, 24
+    sigma = np.concatenate([np.logspace(0, -6, order), 0.5e-6 * np.logspace(0, -3, n_rows - order)])
+    u = np.linalg.qr(rng.standard_normal((n_rows, n_rows)))[0]
+    v = np.linalg.qr(rng.standard_normal((n_cols, n_rows)))[0]
+    h0 = (u * sigma) @ v.T
+    p, d, qt, sv = decompose(h0, order, method="gram")
+    assert sv.size == n_rows
+    np.testing.assert_allclose(d, sigma[:order], rtol=1e-6)
+    # a gap of 10 after the 24th value: one Rayleigh-Ritz step leaves a residual
+    # of ~1e-12, a second passes the check; a gap of 1e6: one step suffices
+    for gap in (10, 1e6):
+        sigma[order:] = 1e-6 / gap * np.logspace(0, -3, n_rows - order)
+        h0 = (u * sigma) @ v.T
+        p, d, qt, sv = decompose(h0, order, method="gram")
+        assert sv.size == order
+        np.testing.assert_allclose(d, sigma[:order], rtol=1e-8)
+        np.testing.assert_allclose(np.abs(np.sum(p * u[:, :order], axis=0)), 1, atol=1e-6)
+
+
+def _noisy_record(n_channels=12, n_samples=8000, seed=0):
+    rng = np.random.default_rng(seed)
+    w = np.linspace(5.0, 300.0, n_channels)
+    rec = modal.impulse_response(w, rng.standard_normal((n_channels, n_channels)), np.ones(n_channels),
+                                 0.005, n_samples, 0.01)
+    return modal.with_noise(rec, 0.02, seed + 1).acceleration
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_noisy_agrees_with_full_svd(seed):
+    y = _noisy_record(seed=seed)
+    fast = modal.era(y, 0.01, 12, rows=40, cols=1000)
+    full = modal.era(y, 0.01, 12, rows=40, cols=1000, svd="full")
+    assert fast.singular_values.size == 24  # "auto" took the Gram route on 480 x 1000
+    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
+    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(np.abs(np.diag(modal.mac(fast.shapes, full.shapes))), 1, atol=1e-6)
+    np.testing.assert_allclose(fast.singular_values, full.singular_values[:24], rtol=1e-10)
+
+
+def test_noisy_several_sets_taller_than_wide():
+    """3 data sets, 480 x 300 Hankel: the Gram matrix is that of the columns."""
+    y = np.stack([_noisy_record(n_samples=300, seed=s) for s in range(3)])
+    h0 = modal.hankel(y, 40, 100)
+    assert h0.shape == (480, 300) and _took_gram(h0, 24, (12, 3))
+    fast = modal.era(y, 0.01, 12, rows=40, cols=100, svd="gram")
+    full = modal.era(y, 0.01, 12, rows=40, cols=100, svd="full")
+    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
+    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-6, atol=1e-9)
+
+
+def test_decompose_serves_every_order_up_to_120():
+    """One Gram decomposition at order 120, truncated to lower orders (as a
+    stabilisation diagram does), matches the thin SVD's at every order."""
+    y = _noisy_record()
+    rows, cols, l = 40, 1000, 12
+    h = modal.hankel(y, rows + 1, cols)
+    h0, h1 = h[:-l], h[l:]
+    p, d, qt, sv = decompose(h0, 120, method="gram", block=(l, 1))
+    assert sv.size == 120
+    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    np.testing.assert_allclose(d, s[:120], rtol=1e-10)
+    for order in (24, 60, 100):
+        fast = realise(p[:, :order], d[:order], qt[:order], h1, l, 1, 0.01)
+        full = realise(u[:, :order], s[:order], vt[:order], h1, l, 1, 0.01)
+        np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
+
+
+@pytest.mark.parametrize("sets, transpose", [(1, False), (3, False), (2, True)])
+def test_block_hankel_gram_is_the_product(sets, transpose):
+    rng = np.random.default_rng(sets)
+    y = rng.standard_normal((sets, 90, 5))
+    h = modal.hankel(y, 12, 40)
+    a, block = (h.T, (sets, 5)) if transpose else (h, (5, sets))
+    np.testing.assert_allclose(block_hankel_gram(a, *block), a @ a.T, rtol=1e-12, atol=1e-12 * np.abs(a).max() ** 2)
+
+
+@pytest.mark.parametrize("bad", ["fast", "SVD", None, 1])
+def test_method_keyword_refused(demo, bad):
+    rec = demo["make"](400)
+    with pytest.raises(ValueError, match="svd must be one of"):
+        modal.era(rec.acceleration, demo["dt"], 6, rows=24, cols=100, svd=bad)
+    with pytest.raises(ValueError, match="method must be one of"):
+        decompose(modal.hankel(rec.acceleration, 24, 100), 12, method=bad)
+
+
+def test_decompose_order_checked():
+    with pytest.raises(ValueError, match="order"):
+        decompose(np.ones((5, 8)), 6)
+    with pytest.raises(ValueError, match="order"):
+        decompose(np.ones((5, 8)), 0)
+
+
+def test_block_checked():
+    h0 = modal.hankel(np.random.default_rng(0).standard_normal((90, 3)), 10, 40)
+    for bad in [(4, 1), (3, 2), (0, 1), 3, ("3", 1)]:
+        with pytest.raises(ValueError, match="block"):
+            decompose(h0, 4, method="gram", block=bad)
+    with pytest.raises(ValueError, match="not a block Hankel"):
+        decompose(np.random.default_rng(1).standard_normal(h0.shape), 4, method="gram", block=(3, 1))
