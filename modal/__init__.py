@@ -11,7 +11,7 @@ from .era import era
 from .experiment import ShakeTest, pick_peaks, select_sharpest, shake_test, sharpness
 from .grid import Grid
 from .hankel import hankel
-from .io import load_record, save_record_npz, write_uff58
+from .io import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
 from .indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
 from .result import ModalResult, ModalWarning
 from .signals import amplitude_spectrum, integrate_acceleration, lowpass_fft, split_record
