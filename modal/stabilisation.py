@@ -51,8 +51,9 @@ class StabilityCriteria:
         Poles join one mode when the distance ``|f_i - f_j| / max(f_i, f_j) +
         1 - MAC_ij`` between the groups (average linkage) is below this.
     min_poles : int, optional
-        A cluster with fewer poles is not a mode; default a fifth of the
-        orders computed, at least 3.
+        A cluster with fewer poles is not a mode; default 40 % of the orders
+        computed, at least 3 (a single channel makes every MAC 1, so spurious
+        poles near a mode are told apart only by how rarely they recur).
     """
 
     freq_rtol: float = 0.01
@@ -214,7 +215,7 @@ def stabilisation(
             & (poles["mamc"] >= criteria.mamc_min)
             & (poles["freq_hz"] < (0.5 / dt if fmax is None else fmax))
         )
-    min_poles = criteria.min_poles or max(3, math.ceil(len(orders) / 5))
+    min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
     poles["mode"], modes, shapes = _select_modes(poles, pole_shapes, criteria.cluster_distance, min_poles)
     if modes.empty:
         warnings.warn("no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria",
@@ -389,8 +390,8 @@ def identify_record(
     fmax : float, optional
         Highest frequency of interest (Hz).
     rows : int, optional
-        Block rows; default ``max(60, ceil(max_order / n_channels))`` so
-        ``H(0)`` has at least ``max_order`` rows.
+        Block rows; default ``max(60, ceil(2 max_order / n_channels))`` so
+        ``H(0)`` has at least twice ``max_order`` rows.
     refs : sequence of int, optional
         Reference channels of the correlations (ambient); default all.
     highpass_hz : float, optional
@@ -416,7 +417,7 @@ def identify_record(
     dt = positive_float("dt", dt)
     max_order = positive_int("max_order", max_order, minimum=2)
     n_channels = y.shape[1]
-    rows = max(60, math.ceil(max_order / n_channels)) if rows is None else positive_int("rows", rows)
+    rows = max(60, math.ceil(2 * max_order / n_channels)) if rows is None else positive_int("rows", rows)
     if fmax is not None:
         fmax = positive_float("fmax", fmax)
         if fmax >= 0.5 / dt:
