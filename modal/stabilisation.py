@@ -288,12 +288,16 @@ def _select_modes(poles: pd.DataFrame, pole_shapes: np.ndarray, cluster_distance
 
 
 def _mean_spectrum(y, dt, min_bins=4096):
-    """Root-mean-square amplitude spectrum over data sets and channels,
-    zero-padded to at least ``min_bins`` frequencies (smooth curves for short
-    correlation functions)."""
+    """Root-mean-square amplitude spectrum over data sets and channels.
+
+    The data are tapered by the falling half of a Hann window (for
+    correlation functions this is the Blackman-Tukey spectral estimate;
+    for a free decay it hides the cut at the end) and zero-padded to at
+    least ``min_bins`` frequencies, so short records give smooth curves."""
     n = y.shape[1]
+    taper = np.hanning(2 * n)[n:]
     n_fft = max(n, 2 * min_bins)
-    amplitude = np.abs(scipy.fft.rfft(y, n=n_fft, axis=1)) / n
+    amplitude = np.abs(scipy.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
     return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(np.mean(amplitude**2, axis=(0, 2)))
 
 
