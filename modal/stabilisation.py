@@ -26,6 +26,8 @@ from .hankel import hankel
 from .indicators import mac
 from .result import ModalWarning
 
+POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
+                "stable_freq", "stable_damping", "stable_shape", "stable"]
 MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"]
 
 
@@ -186,10 +188,19 @@ def stabilisation(
     if rank < max_order:
         warnings.warn(f"H(0) has numerical rank {rank}: orders above it are not computed", ModalWarning, stacklevel=2)
         max_order = rank - rank % 2
+    # realise() uses H(1) only through P^T H(1) (Eq. 41) and P only through
+    # P^T H(1) and E_p^T P (Eqs. 43, 45). Every truncation P[:, :k] lies in
+    # span(P), so the stacked pair [E_p^T P; I] and [0; P^T H(1)] gives the
+    # same products exactly, with l + max_order rows instead of l r: the
+    # projection costs one product, then each order is cheap.
+    p_stacked = np.vstack([p[:l], np.eye(p.shape[1])])
+    h1_stacked = np.vstack([np.zeros((l, h1.shape[1])), p.T @ h1])
     orders = list(range(2, max_order + 1, 2))
-    rows_out, shapes_out, previous = [], [], None
+    columns = {name: [] for name in POLE_COLUMNS}
+    shapes_out, previous = [], None
     for done, order in enumerate(orders, 1):
-        result = realise(p[:, :order], d[:order], qt[:order], h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv)
+        result = realise(p_stacked[:, :order], d[:order], qt[:order], h1_stacked, n_channels=l, n_sets=m, dt=dt,
+                         singular_values=sv)
         current = {
             "order": np.full(result.n_modes, order),
             "freq_hz": result.freq_hz,
@@ -199,12 +210,13 @@ def stabilisation(
             "real_pole": result.real_pole,
         }
         current.update(_stability(current, result.shapes, previous, criteria))
-        rows_out.append(pd.DataFrame(current))
+        for name in POLE_COLUMNS:
+            columns[name].append(current[name])
         shapes_out.append(result.shapes.T)
         previous = (current, result.shapes)
         if progress is not None:
             progress(done, len(orders))
-    poles = pd.concat(rows_out, ignore_index=True)
+    poles = pd.DataFrame({name: np.concatenate(values) if values else [] for name, values in columns.items()})
     pole_shapes = np.concatenate(shapes_out) if shapes_out else np.empty((0, l))
     with np.errstate(invalid="ignore"):
         poles["physical"] = (
@@ -259,13 +271,14 @@ def _select_modes(poles: pd.DataFrame, pole_shapes: np.ndarray, cluster_distance
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     clusters = fcluster(linkage(squareform(distance, checks=False), method="average"), cluster_distance, "distance")
+    table = {name: poles[name].to_numpy() for name in ("freq_hz", "damping", "mpc", "mamc")}
     rows, reps = [], []
     for cluster in np.unique(clusters):
         members = np.flatnonzero(clusters == cluster)
         if len(members) < min_poles:
             continue
-        group = poles.iloc[candidates[members]]
         medoid = members[np.argmin(distance[np.ix_(members, members)].sum(axis=1))]
+        group = {name: values[candidates[members]] for name, values in table.items()}
         rows.append({
             "freq_hz": group["freq_hz"].mean(),
             "freq_std_hz": group["freq_hz"].std(ddof=1),
