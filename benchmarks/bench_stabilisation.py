@@ -20,24 +20,18 @@ Run: ``OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_stabilisation.py``
 
 from __future__ import annotations
 
-import time
+from functools import partial
 from pathlib import Path
 
 import numpy as np
+from bench_engine import best_of as best_of_7  # run as a script: benchmarks/ is on sys.path
 
 import modal
 
+best_of = partial(best_of_7, repeat=5)
+
 FIXTURE = Path(__file__).resolve().parents[1] / "tests" / "data" / "palisaden_20hz_30min.npy"
 ROWS, MAX_ORDER = 60, 60
-
-
-def best_of(fn, repeat=5):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main():

@@ -63,7 +63,7 @@ def small_workflow(tmp_path_factory):
     """A copy of the workflow in a temporary directory, run to completion with
     the small config ``small.yaml`` (3 seeds, short sweeps)."""
     tmp = tmp_path_factory.mktemp("wf")
-    for item in ("Snakefile", "workflow", "config", "modal", "notebooks"):
+    for item in ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data"):
         src = ROOT / item
         if src.is_dir():
             shutil.copytree(src, tmp / item, ignore=shutil.ignore_patterns("__pycache__"))

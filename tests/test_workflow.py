@@ -59,6 +59,8 @@ BAD_SCHEMA = [
     ("studies.demo.cases.c2.damping", 1.5, "damping"),
     ("interpretations.named.era", "jerk", "jerk"),
     ("studies.demo.methods.era.colums", 100, "colums"),
+    ("measured.palisaden.excitation", "forced", "forced"),
+    ("measured.palisaden.max_order", 61, "61"),
 ]
 BAD_CHECK = [
     ("studies.demo.methods.era.cols", 4000, "studies.demo.methods.era: rows + cols"),
@@ -208,3 +210,12 @@ def test_grid_end_to_end(workdir):
     for n in range(12, 22):
         assert (workdir / f"results/figures/figure_{n:02d}.png").read_bytes()[:4] == b"\x89PNG"
     assert "within 5 %" in (workdir / "results/tables/table_10.md").read_text()
+
+
+def test_measured_record_identified(workdir):
+    """config "measured": the Palisaden fixture's modes and diagram."""
+    modes = pd.read_csv(workdir / "results/measured/palisaden/modes.csv")
+    for published in (1.88, 2.42, 2.68):
+        assert (modes["freq_hz"] - published).abs().min() / published < 0.005
+    assert (workdir / "results/measured/palisaden/stabilisation.png").read_bytes()[:4] == b"\x89PNG"
+

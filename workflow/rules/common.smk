@@ -29,6 +29,12 @@ def numbers(mapping):
     return sorted(int(n) for n in mapping)
 
 
+def measured_outputs():
+    """modes.csv and the stabilisation diagram of every record in config "measured"."""
+    names = sorted(config.get("measured") or {})
+    return [f"results/measured/{n}/{f}" for n in names for f in ("modes.csv", "stabilisation.png")]
+
+
 def beam_outputs():
     out = []
     for n in table_numbers():
