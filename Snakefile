@@ -18,6 +18,7 @@ modal.thesis.config.check(config)
 include: "workflow/rules/common.smk"
 include: "workflow/rules/beam.smk"
 include: "workflow/rules/grid.smk"
+include: "workflow/rules/measured.smk"
 include: "workflow/rules/report.smk"
 
 
@@ -25,4 +26,5 @@ rule all:
     input:
         beam_outputs(),
         grid_outputs(),
+        measured_outputs(),
         report_outputs(),

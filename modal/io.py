@@ -1,25 +1,77 @@
-"""Reading and writing measured records: NumPy ``.npz``, CSV and Universal
-File Format data set 58 (via the maintained ``pyuff`` library).
+"""Reading and writing measured records: NumPy ``.npy`` and ``.npz``, CSV and
+other delimited text, LabVIEW ``.lvm`` (via ``lvm-read``) and Universal File
+Format data set 58 (via ``pyuff``).
 
 A record is an array ``acc`` of shape ``(n_samples, n_channels)`` sampled
-every ``dt`` seconds, the input of :func:`modal.tcm`, :func:`modal.era` and
-:func:`modal.cera`; a measured grid record (thesis Sec. 7.2: 4096 samples at
-200 Hz from eleven accelerometers) loads with :func:`load_record` and feeds the
-same pipeline as the virtual test of :mod:`modal.experiment`.
+every ``dt`` seconds, the input of :func:`modal.tcm`, :func:`modal.era`,
+:func:`modal.cera` and :func:`modal.stabilisation`; a measured grid record
+(thesis Sec. 7.2: 4096 samples at 200 Hz from eleven accelerometers) loads
+with :func:`load_record` and feeds the same pipeline as the virtual test of
+:mod:`modal.experiment`. :func:`read_record` returns the same arrays with the
+channels' metadata (name, node, direction, unit) where the file has them.
+
+Every error raised while reading names the file, and for text files the row
+(1-based line number) and column (1-based).
 """
 
 from __future__ import annotations
 
 import csv
+import re
+import warnings
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 
 from ._checks import finite_array, positive_float
+from .result import ModalWarning
 
 #: Relative tolerance on the uniformity of a CSV time column and on the
 #: agreement of sampling rates given twice.
 DT_RTOL = 1e-6
+
+#: Sampling rates that differ by more than this (relative) draw a warning
+#: when ``fs`` overrides a text file's time column.
+FS_WARN_RTOL = 1e-3
+
+CHANNEL_COLUMNS = ["name", "node", "direction", "unit"]
+
+
+@dataclass(frozen=True)
+class MeasuredRecord:
+    """A record as read from a file.
+
+    Attributes
+    ----------
+    acc : ndarray, shape (n_samples, n_channels)
+    dt : float
+        Sampling interval (s).
+    channels : pandas.DataFrame
+        One row per channel: ``name``, ``node``, ``direction``, ``unit``
+        (missing where the file does not say).
+    path : pathlib.Path
+    """
+
+    acc: np.ndarray
+    dt: float
+    channels: pd.DataFrame = field(default_factory=pd.DataFrame)
+    path: Path | None = None
+
+    @property
+    def fs(self) -> float:
+        """Sampling rate (Hz)."""
+        return 1.0 / self.dt
+
+
+def _channels(n, **columns) -> pd.DataFrame:
+    frame = pd.DataFrame({c: pd.Series([None] * n, dtype=object) for c in CHANNEL_COLUMNS})
+    for name, values in columns.items():
+        frame[name] = list(values)
+    if columns.get("name") is None:
+        frame["name"] = [f"ch{c + 1}" for c in range(n)]
+    return frame
 
 
 def _as_record(acc, name: str = "acc") -> np.ndarray:
@@ -32,6 +84,16 @@ def _as_record(acc, name: str = "acc") -> np.ndarray:
     return a
 
 
+def _check_layout(acc: np.ndarray) -> None:
+    """Refuse a record that looks channels-first."""
+    n_samples, n_channels = acc.shape
+    if n_channels > n_samples:
+        raise ValueError(
+            f"shape {acc.shape} has more channels ({n_channels}) than samples ({n_samples}): the array looks "
+            "transposed (channels first); store it as (n_samples, n_channels), e.g. np.save(path, acc.T)"
+        )
+
+
 def _resolve_dt(dt_file, fs, path) -> float:
     """Combine a sampling interval stored in the file with an ``fs`` argument."""
     dt_arg = None if fs is None else 1.0 / positive_float("fs", fs)
@@ -40,6 +102,19 @@ def _resolve_dt(dt_file, fs, path) -> float:
     if dt_file is not None and dt_arg is not None and abs(dt_file - dt_arg) > DT_RTOL * dt_arg:
         raise ValueError(f"{path}: fs = {fs} Hz contradicts the file's dt = {dt_file} s")
     return dt_file if dt_file is not None else dt_arg
+
+
+def _stored_positive(name, value) -> float:
+    """A positive number stored in a file (booleans refused: ``dt=True`` is not 1 s)."""
+    if np.asarray(value).dtype.kind not in "iuf" or np.asarray(value).size != 1:
+        raise ValueError(f"{name} must be one positive number, got {value!r}")
+    return positive_float(name, np.asarray(value).item())
+
+
+def _load_npy(path: Path, fs):
+    acc = np.load(path, allow_pickle=False)
+    acc = _as_record(acc)
+    return MeasuredRecord(acc, _resolve_dt(None, fs, path), _channels(acc.shape[1]), path)
 
 
 def _load_npz(path: Path, fs):
@@ -51,49 +126,187 @@ def _load_npz(path: Path, fs):
         acc = data[name]
         dt_file = None
         if "dt" in keys:
-            dt_file = positive_float("dt", data["dt"])
+            dt_file = _stored_positive("dt", data["dt"])
         if "fs" in keys:
-            dt_fs = 1.0 / positive_float("fs", data["fs"])
+            dt_fs = 1.0 / _stored_positive("fs", data["fs"])
             if dt_file is not None and abs(dt_file - dt_fs) > DT_RTOL * dt_fs:
                 raise ValueError(f"{path}: the file's dt = {dt_file} s contradicts its fs = {float(data['fs'])} Hz")
             dt_file = dt_fs
-    return _as_record(acc), _resolve_dt(dt_file, fs, path)
+    acc = _as_record(acc)
+    return MeasuredRecord(acc, _resolve_dt(dt_file, fs, path), _channels(acc.shape[1]), path)
 
 
-def _is_number(text: str) -> bool:
+def _printed_resolution(values: np.ndarray) -> float:
+    """The last printed digit's value: the largest ``10^-k`` of which every
+    value is a whole multiple (0 when printed to full precision)."""
+    scale = max(1.0, float(np.max(np.abs(values))))
+    for k in range(0, 13):
+        shifted = values * 10.0**k
+        if np.all(np.abs(shifted - np.round(shifted)) <= 1e-9 * scale * 10.0**k + 1e-9):
+            return 10.0**-k
+    return 0.0
+
+
+def _time_step(time: np.ndarray) -> float | None:
+    """The step of a uniformly increasing time column, or None.
+
+    Printed times are rounded (``%.6f`` at 1651.6 Hz: steps of 605 and 606
+    microseconds), so each step may be off by one unit of the last printed
+    digit; the step is the mean over the whole column.
+    """
+    if len(time) < 2 or not np.all(np.isfinite(time)):
+        return None
+    dt = (time[-1] - time[0]) / (len(time) - 1)
+    if dt <= 0:
+        return None
+    tolerance = DT_RTOL * dt + 1.000001 * _printed_resolution(time) + 1e-12 * np.max(np.abs(time))
+    return float(dt) if np.max(np.abs(np.diff(time) - dt)) <= tolerance else None
+
+
+def _rate_from_time(time, fs, path):
+    """``dt`` from a time column, overridden by ``fs`` when given."""
+    dt_time = _time_step(time)
+    if fs is None:
+        if dt_time is None:
+            raise ValueError(f"{path}: the time column (column 1) is not uniformly increasing; "
+                             "pass fs if column 1 is data")
+        return dt_time
+    dt = 1.0 / positive_float("fs", fs)
+    if dt_time is not None and abs(dt_time - dt) > FS_WARN_RTOL * dt:
+        warnings.warn(f"{path}: fs = {fs} Hz overrides the time column's {1 / dt_time:.6g} Hz",
+                      ModalWarning, stacklevel=4)
+    return dt
+
+
+_DELIMITERS = (",", ";", "\t", "|")
+
+
+def _sniff_delimiter(lines, decimal):
+    """The delimiter on every sampled line, most often at least once per line; else whitespace."""
+    sample = [line for line in lines if line.strip()][-20:]
+    best, count = None, 0
+    for candidate in _DELIMITERS:
+        if candidate == decimal or not sample:
+            continue
+        fewest = min(line.count(candidate) for line in sample)
+        if fewest > count:
+            best, count = candidate, fewest
+    return best
+
+
+def _number(text: str, decimal: str) -> float | None:
+    text = text.strip()
+    if decimal != ".":
+        text = text.replace(decimal, ".")
     try:
-        float(text)
+        return float(text)
     except ValueError:
+        return None
+
+
+def _is_integer_literal(text: str) -> bool:
+    return re.fullmatch(r"\s*[+-]?\d+\s*", text) is not None
+
+
+def _numeric_header(rows, table) -> bool:
+    """Is the first row a header of whole numbers (node ids) above data
+    printed with decimals? It is when it breaks the time column that the rows
+    below it form, or (no time column) when it is ten times larger than
+    every sample below it in some column."""
+    if len(rows) < 4 or not all(_is_integer_literal(c) for c in rows[0][1]):
         return False
-    return True
+    if all(_is_integer_literal(c) for _, row in rows[1:3] for c in row):
+        return False
+    if _time_step(table[1:, 0]) is not None:
+        return _time_step(table[:, 0]) is None
+    return bool(np.any(np.abs(table[0]) > 10 * np.max(np.abs(table[1:]), axis=0)))
 
 
-def _load_csv(path: Path, fs):
-    with open(path, newline="") as fh:
-        rows = [row for row in csv.reader(fh) if row and any(cell.strip() for cell in row)]
-    if rows and not all(_is_number(cell) for cell in rows[0]):
-        rows = rows[1:]  # header row
+def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
+    if decimal not in (".", ","):
+        raise ValueError(f"decimal must be '.' or ',', got {decimal!r}")
+    if not isinstance(skip_rows, int) or isinstance(skip_rows, bool) or skip_rows < 0:
+        raise ValueError(f"skip_rows must be an integer >= 0, got {skip_rows!r}")
+    with open(path, newline="", encoding="utf-8-sig", errors="replace") as fh:
+        lines = fh.read().splitlines()[skip_rows:]
+    if delimiter is None:
+        delimiter = _sniff_delimiter(lines, decimal)
+    elif not isinstance(delimiter, str) or len(delimiter) != 1 or delimiter == decimal:
+        raise ValueError(f"delimiter must be one character other than the decimal mark, got {delimiter!r}")
+    if delimiter is None:
+        split = [line.split() for line in lines]
+    else:
+        split = list(csv.reader(lines, delimiter=delimiter))
+    rows = [(skip_rows + i + 1, row) for i, row in enumerate(split) if row and any(c.strip() for c in row)]
+    # Header rows: leading rows with a non-numeric cell (names, units) ...
+    while rows and any(_number(c, decimal) is None for c in rows[0][1] if c.strip()):
+        rows = rows[1:]
+    # ... or a row of whole numbers (node ids) narrower or wider than the data.
+    if len(rows) >= 2 and all(_is_integer_literal(c) for c in rows[0][1]) and len(rows[0][1]) != len(rows[1][1]):
+        rows = rows[1:]
     if len(rows) < 2:
-        raise ValueError(f"{path}: fewer than 2 data rows")
-    widths = {len(row) for row in rows}
-    if len(widths) != 1:
-        raise ValueError(
-            f"{path}: rows have unequal numbers of columns {sorted(widths)}: channels of unequal length"
-        )
-    try:
-        table = np.array([[float(cell) if cell.strip() else np.nan for cell in row] for row in rows])
-    except ValueError as exc:
-        raise ValueError(f"{path}: non-numeric entry ({exc})") from None
-    if fs is not None:
-        return _as_record(table), 1.0 / positive_float("fs", fs)
-    if table.shape[1] < 2:
+        raise ValueError(f"{path}: fewer than 2 rows of numbers (delimiter {delimiter or 'whitespace'!r}, "
+                         f"decimal {decimal!r}); pass delimiter=, decimal= or skip_rows=")
+    width = len(rows[0][1])
+    for line, row in rows:
+        if len(row) != width:
+            raise ValueError(f"{path}: row {line} has {len(row)} columns, row {rows[0][0]} has {width}: "
+                             "channels of unequal length (or a different delimiter: pass delimiter=)")
+    table = np.empty((len(rows), width))
+    for i, (line, row) in enumerate(rows):
+        for j, cell in enumerate(row):
+            if not cell.strip():
+                raise ValueError(f"{path}: row {line}, column {j + 1} is empty")
+            value = _number(cell, decimal)
+            if value is None or not np.isfinite(value):
+                raise ValueError(f"{path}: row {line}, column {j + 1}: {cell.strip()!r} is not a finite number"
+                                 + ("" if decimal == "," else " (decimal commas: pass decimal=',')"))
+            table[i, j] = value
+    if _numeric_header(rows, table):
+        table = table[1:]
+    if width >= 2 and (fs is None or _time_step(table[:, 0]) is not None):
+        dt = _rate_from_time(table[:, 0], fs, path)
+        acc = table[:, 1:]
+    elif fs is None:
         raise ValueError(f"{path}: without fs the first column must be time (s), followed by channels")
-    time = finite_array("time column", table[:, 0], ndim=(1,))
-    steps = np.diff(time)
-    dt = float(np.mean(steps))
-    if dt <= 0 or np.max(np.abs(steps - dt)) > DT_RTOL * max(dt, 1e-300) + 1e-12:
-        raise ValueError(f"{path}: the time column is not uniformly increasing; pass fs if column 1 is data")
-    return _as_record(table[:, 1:]), dt
+    else:
+        dt, acc = 1.0 / positive_float("fs", fs), table
+    acc = _as_record(acc)
+    return MeasuredRecord(acc, dt, _channels(acc.shape[1]), path)
+
+
+def _load_lvm(path: Path, fs):
+    import lvm_read
+
+    # No pickle cache next to the user's file: read the text every time.
+    lvm = lvm_read.read(str(path), read_from_pickle=False, dump_file=False)
+    if lvm.get("Segments", 1) != 1:
+        raise ValueError(f"{path}: {lvm['Segments']} segments; only single-segment LabVIEW files are supported")
+    segment = lvm[0]
+    data = np.asarray(segment["data"], dtype=float)
+    names = list(segment.get("Channel names", []))[: data.shape[1]]
+    is_time = np.array([name == "X_Value" for name in names] + [False] * (data.shape[1] - len(names)))
+    if is_time.all():
+        raise ValueError(f"{path}: no data column, only time")
+    acc = data[:, ~is_time]
+    for j in range(acc.shape[1]):
+        bad = np.flatnonzero(~np.isfinite(acc[:, j]))
+        if bad.size:
+            raise ValueError(f"{path}: data row {bad[0] + 1}, channel {j + 1} is empty or not a number")
+    if is_time.any():
+        dt = _rate_from_time(data[:, np.argmax(is_time)], fs, path)
+    elif fs is not None:
+        dt = 1.0 / positive_float("fs", fs)
+    else:
+        deltas = np.asarray(segment.get("Delta_X", [np.nan]), dtype=float)
+        if not np.isfinite(deltas[0]) or deltas[0] <= 0:
+            raise ValueError(f"{path}: no time column and no Delta_X; pass fs (Hz)")
+        dt = float(deltas[0])
+    units = list(segment.get("Y_Unit_Label", []))[: acc.shape[1]]
+    units += [None] * (acc.shape[1] - len(units))
+    y_names = [n for n, t in zip(names, is_time) if not t]
+    y_names += [f"ch{c + 1}" for c in range(len(y_names), acc.shape[1])]
+    return MeasuredRecord(_as_record(acc), dt, _channels(acc.shape[1], name=y_names, unit=units), path)
 
 
 def _load_uff(path: Path, fs):
@@ -116,55 +329,109 @@ def _load_uff(path: Path, fs):
         if np.max(np.abs(incs - incs[0])) > DT_RTOL * incs[0]:
             raise ValueError(f"{path}: type-58 sets with different abscissa_inc {np.unique(incs).tolist()}")
         dt_file = float(incs[0])
-    acc = np.column_stack([np.asarray(s["data"], dtype=float) for s in sets])
-    return _as_record(acc), _resolve_dt(dt_file, fs, path)
+    acc = _as_record(np.column_stack([np.asarray(s["data"], dtype=float) for s in sets]))
+    channels = _channels(
+        len(sets),
+        name=[str(s.get("id1", "")).strip() or f"ch{c + 1}" for c, s in enumerate(sets)],
+        node=[s.get("rsp_node") for s in sets],
+        direction=[s.get("rsp_dir") for s in sets],
+        unit=[str(s.get("ord_axis_units_lab", "")).strip() or None for s in sets],
+    )
+    return MeasuredRecord(acc, _resolve_dt(dt_file, fs, path), channels, path)
 
 
-def load_record(path, fs=None):
-    """Read a measured record.
+_LOADERS = {".npy": _load_npy, ".npz": _load_npz, ".csv": _load_csv, ".txt": _load_csv, ".tsv": _load_csv,
+            ".lvm": _load_lvm, ".uff": _load_uff, ".unv": _load_uff}
+
+
+def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> MeasuredRecord:
+    """Read a measured record with its channels' metadata.
 
     Formats, by extension:
 
+    ``.npy``
+        One array ``(n_samples, n_channels)`` or ``(n_samples,)``; pass ``fs``.
     ``.npz``
-        An array ``acc`` (or ``y``), shape ``(n_samples, n_channels)`` or
-        ``(n_samples,)``, and ``dt`` (s) or ``fs`` (Hz).
-    ``.csv``
-        Comma-separated numbers, an optional header row. Without ``fs`` the
-        first column is time in s (uniform) and the others are channels; with
-        ``fs`` every column is a channel.
+        An array ``acc`` (or ``y``) and ``dt`` (s) or ``fs`` (Hz).
+    ``.csv``, ``.txt``, ``.tsv``
+        Delimited numbers. Leading rows with text (names, units) are headers,
+        and so is a first row of whole numbers (node ids) above data printed
+        with decimals. Without ``fs`` the first column is time in s; with
+        ``fs`` a uniformly increasing first column is still time, dropped,
+        and ``fs`` sets the rate (a warning when they disagree). Printed
+        times may be rounded: each step may be off by one unit of the last
+        printed digit; the rate is the mean step.
+    ``.lvm``
+        LabVIEW measurement file (``lvm_read.read``); ``X_Value`` columns are
+        time, the others channels, with their names and ``Y_Unit_Label``.
+        The rate is the time column's mean step (the header's ``Delta_X`` is
+        rounded), or ``fs``.
     ``.uff``, ``.unv``
-        Universal File Format; every data set of type 58 (function at a node,
-        real time data) becomes a channel, in file order, and ``dt`` is its
-        ``abscissa_inc`` (read with ``pyuff.UFF(path).read_sets()``). The UFF
-        header stores ``abscissa_inc`` with 6 significant digits.
+        Universal File Format; every data set of type 58 becomes a channel,
+        in file order, with its node (``rsp_node``), direction (``rsp_dir``)
+        and unit label; ``dt`` is its ``abscissa_inc`` (6 significant digits).
 
     Parameters
     ----------
     path : str or path-like
     fs : float, optional
-        Sampling rate in Hz, needed when the file has none; if the file has
-        one too, they must agree.
+        Sampling rate in Hz, needed when the file has none. Binary formats
+        must agree with it; text formats' time columns are overridden.
+    delimiter : str, optional
+        Text files: one character (default: sniffed from ``, ; tab |``, else
+        whitespace).
+    decimal : {".", ","}
+        Text files: decimal mark.
+    skip_rows : int
+        Text files: lines skipped at the top before anything is read.
+
+    Returns
+    -------
+    MeasuredRecord
+
+    Raises
+    ------
+    ValueError
+        Naming the file (and the row and column of a text file): unknown
+        extension, an empty or non-numeric cell, NaN or inf, channels of
+        unequal length, missing or contradictory sampling rate, a
+        channels-first array.
+    """
+    path = Path(path)
+    ext = path.suffix.lower()
+    if ext not in _LOADERS:
+        raise ValueError(f"path: {path}: unknown record format {ext!r}; expected one of {sorted(_LOADERS)}")
+    if not path.exists():
+        raise ValueError(f"path: {path} does not exist")
+    options = {}
+    if _LOADERS[ext] is _load_csv:
+        options = {"delimiter": delimiter, "decimal": decimal, "skip_rows": skip_rows}
+    try:
+        record = _LOADERS[ext](path, fs, **options)
+        _check_layout(record.acc)
+    except ValueError as exc:
+        if str(path) in str(exc):
+            raise
+        raise ValueError(f"{path}: {exc}") from None
+    except (OSError, UnicodeError) as exc:
+        raise ValueError(f"{path}: cannot be read as {ext} ({exc})") from None
+    return record
+
+
+def load_record(path, fs=None, **options):
+    """Read a measured record: ``acc`` (n_samples x n_channels) and ``dt`` (s).
+
+    The formats, options and errors of :func:`read_record`, which also
+    returns the channels' metadata.
 
     Returns
     -------
     acc : ndarray, shape (n_samples, n_channels)
     dt : float
         Sampling interval in s.
-
-    Raises
-    ------
-    ValueError
-        Unknown extension, NaN or inf, channels of unequal length, missing
-        or contradictory sampling rate.
     """
-    path = Path(path)
-    loaders = {".npz": _load_npz, ".csv": _load_csv, ".uff": _load_uff, ".unv": _load_uff}
-    ext = path.suffix.lower()
-    if ext not in loaders:
-        raise ValueError(f"path: unknown record format {ext!r}; expected one of {sorted(loaders)}")
-    if not path.exists():
-        raise ValueError(f"path: {path} does not exist")
-    return loaders[ext](path, fs)
+    record = read_record(path, fs, **options)
+    return record.acc, record.dt
 
 
 def save_record_npz(path, acc, dt) -> Path:

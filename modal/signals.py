@@ -117,3 +117,133 @@ def amplitude_spectrum(y, dt):
     y = finite_array("y", y, ndim=(2,))
     dt = positive_float("dt", dt)
     return scipy.fft.rfftfreq(y.shape[0], dt), np.abs(scipy.fft.rfft(y, axis=0)) / y.shape[0]
+
+
+# Preprocessing of measured records (detrend, zero-phase filtering, anti-aliased
+# decimation, the start of a free decay). scipy.signal is imported inside each
+# function: it costs about 0.3 s and most jobs never need it.
+
+
+def detrend(y, kind="linear") -> np.ndarray:
+    """Remove the mean (``kind="constant"``) or a least-squares line
+    (``kind="linear"``) from each channel (:func:`scipy.signal.detrend`).
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, n_channels)
+    kind : {"linear", "constant"}
+    """
+    from scipy.signal import detrend as scipy_detrend
+
+    y = finite_array("y", y, ndim=(2,))
+    if kind not in ("linear", "constant"):
+        raise ValueError(f"kind must be 'linear' or 'constant', got {kind!r}")
+    return scipy_detrend(y, axis=0, type=kind)
+
+
+def zero_phase_filter(y, dt, highpass_hz=None, lowpass_hz=None, order=4) -> np.ndarray:
+    """Butterworth high-, low- or band-pass filter run forwards and backwards
+    (:func:`scipy.signal.sosfiltfilt`), so it shifts no phase and no peak.
+
+    The magnitude response is the square of an ``order``-th order
+    Butterworth's. Unlike :func:`lowpass_fft` (the thesis's filter), it does
+    not ring across the whole record at a step or an impact.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, n_channels)
+    dt : float
+        Sampling interval (s).
+    highpass_hz, lowpass_hz : float, optional
+        Cut-off frequencies in Hz (at least one), below the Nyquist frequency;
+        ``highpass_hz < lowpass_hz`` when both are given.
+    order : int
+        Butterworth order of each pass.
+    """
+    from scipy.signal import butter, sosfiltfilt
+
+    y = finite_array("y", y, ndim=(2,))
+    dt = positive_float("dt", dt)
+    order = positive_int("order", order)
+    nyquist = 0.5 / dt
+    edges = {}
+    for name, value in (("highpass_hz", highpass_hz), ("lowpass_hz", lowpass_hz)):
+        if value is not None:
+            edges[name] = positive_float(name, value)
+            if edges[name] >= nyquist:
+                raise ValueError(f"{name} = {value} must be below the Nyquist frequency {nyquist} Hz")
+    if not edges:
+        raise ValueError("highpass_hz or lowpass_hz must be given")
+    if len(edges) == 2:
+        if edges["highpass_hz"] >= edges["lowpass_hz"]:
+            raise ValueError(f"highpass_hz = {highpass_hz} must be below lowpass_hz = {lowpass_hz}")
+        sos = butter(order, [edges["highpass_hz"], edges["lowpass_hz"]], btype="bandpass", fs=1 / dt, output="sos")
+    elif "highpass_hz" in edges:
+        sos = butter(order, edges["highpass_hz"], btype="highpass", fs=1 / dt, output="sos")
+    else:
+        sos = butter(order, edges["lowpass_hz"], btype="lowpass", fs=1 / dt, output="sos")
+    if y.shape[0] <= 3 * (2 * len(sos) + 1):
+        raise ValueError(f"y has {y.shape[0]} samples, too few to filter with order {order}")
+    return sosfiltfilt(sos, y, axis=0)
+
+
+def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
+    """Keep every ``factor``-th sample after an anti-aliasing low-pass
+    (:func:`scipy.signal.decimate`: order-8 Chebyshev I at 0.8 of the new
+    Nyquist frequency, run forwards and backwards, so zero phase).
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, n_channels)
+    dt : float
+        Sampling interval (s).
+    factor : int
+        Decimation factor ``q >= 1``; factors above 13 are done in stages,
+        as scipy advises.
+
+    Returns
+    -------
+    y : ndarray, shape (ceil(n_samples / q), n_channels)
+    dt : float
+        The new sampling interval ``q dt``.
+    """
+    from scipy.signal import decimate as scipy_decimate
+
+    y = finite_array("y", y, ndim=(2,))
+    dt = positive_float("dt", dt)
+    factor = positive_int("factor", factor)
+    stages, remaining = [], factor
+    while remaining > 1:  # largest divisor <= 13 first, so each stage stays stable
+        step = next((q for q in range(min(13, remaining), 1, -1) if remaining % q == 0), remaining)
+        stages.append(step)
+        remaining //= step
+    for step in stages:
+        if y.shape[0] <= 27 * step:
+            raise ValueError(f"y has {y.shape[0]} samples, too few to decimate by {factor}")
+        y = scipy_decimate(y, step, axis=0, zero_phase=True)
+    return np.ascontiguousarray(y), dt * factor
+
+
+def decay_start(y) -> int:
+    """Sample where a free decay starts: the peak of the response to an
+    impact, so that ERA (Eq. 34, ``start``) sees only the free response.
+
+    The peak is that of ``sum_c (y_c / max|y_c|)^2``, so every channel counts
+    whatever its units or gain. A hammer pulse lasts a few samples and its
+    response peaks within them; what follows is free.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, n_channels)
+
+    Returns
+    -------
+    int
+        Index of the first sample of the free decay.
+    """
+    y = finite_array("y", y, ndim=(2,))
+    peak = np.max(np.abs(y), axis=0)
+    if not np.any(peak > 0):
+        raise ValueError("y is zero everywhere: no impact to find")
+    energy = np.sum((y / np.where(peak > 0, peak, 1)) ** 2, axis=1)
+    return int(np.argmax(energy))

@@ -69,16 +69,16 @@ def test_bad_files(tmp_path, acc):
     np.savez(tmp_path / "both.npz", acc=acc, dt=DT)
     with pytest.raises(ValueError, match="contradicts"):
         load_record(tmp_path / "both.npz", fs=100)
-    (tmp_path / "rec.txt").write_text("1,2\n3,4\n")
+    (tmp_path / "rec.xls").write_text("1,2\n3,4\n")
     with pytest.raises(ValueError, match="unknown record format"):
-        load_record(tmp_path / "rec.txt")
+        load_record(tmp_path / "rec.xls")
     (tmp_path / "ragged.csv").write_text("0,1,2\n0.005,3\n0.01,5,6\n")
     with pytest.raises(ValueError, match="unequal"):
         load_record(tmp_path / "ragged.csv")
     (tmp_path / "hole.csv").write_text("0,1,2\n0.005,,4\n0.01,5,6\n")
-    with pytest.raises(ValueError, match="NaN"):
+    with pytest.raises(ValueError, match=r"hole.csv: row 2, column 2 is empty"):
         load_record(tmp_path / "hole.csv")
-    (tmp_path / "jitter.csv").write_text("0,1\n0.005,2\n0.011,3\n")
+    (tmp_path / "jitter.csv").write_text("0,1\n0.005,2\n0.013,3\n")
     with pytest.raises(ValueError, match="uniformly"):
         load_record(tmp_path / "jitter.csv")
     with pytest.raises(ValueError, match="does not exist"):
@@ -106,3 +106,114 @@ def test_writers_reject_bad_input(tmp_path, acc):
         write_uff58(tmp_path / "x.uff", np.full((4, 1), np.nan), DT)
     with pytest.raises(ValueError, match="nodes"):
         write_uff58(tmp_path / "x.uff", acc, DT, nodes=[1])
+
+
+# Real-world text exports and binary arrays (issue 10).
+
+FS_NI = 51200 / 31  # an NI-9234 rate: 1651.6129 Hz, dt printed as 0.000605
+
+
+def _printed_time(n, dt, decimals):
+    return [f"{t:.{decimals}f}" for t in dt * np.arange(n)]
+
+
+def test_csv_printed_time_semicolons_decimal_commas_units_row(tmp_path, acc):
+    times = _printed_time(len(acc), 1 / FS_NI, 6)
+    lines = ["time;a1;a2;a3", "s;g;g;g"] + [
+        ";".join([t] + [f"{v:.6f}".replace(".", ",") for v in row]) for t, row in zip(times, acc)
+    ]
+    path = tmp_path / "export.csv"
+    path.write_text("\n".join(lines) + "\n")
+    got, dt = load_record(path, decimal=",")
+    np.testing.assert_allclose(got, acc, atol=5e-7)
+    # The printed steps are 605 and 606 us; the mean over the column recovers the rate.
+    assert 1 / dt == pytest.approx(FS_NI, rel=2e-4)
+
+
+def test_text_tabs_skip_rows_and_fs_overrides_time_column(tmp_path, acc):
+    times = _printed_time(len(acc), 1 / 256, 6)  # %.6f at 256 Hz
+    body = ["\t".join([t] + [repr(float(v)) for v in row]) for t, row in zip(times, acc)]
+    path = tmp_path / "tabs.txt"
+    path.write_text("recorded 2026-01-01\noperator x\n" + "\n".join(body) + "\n")
+    got, dt = load_record(path, skip_rows=2)
+    np.testing.assert_array_equal(got, acc)
+    assert dt == pytest.approx(1 / 256, abs=1e-6 / (len(acc) - 1))  # one printed digit over the span
+    # With fs the time column is still not a channel, and fs sets the rate.
+    with pytest.warns(UserWarning, match="overrides"):
+        got, dt = load_record(path, fs=250, skip_rows=2)
+    assert got.shape == acc.shape and dt == 1 / 250
+
+
+def test_numeric_header_row_is_not_sample_zero(tmp_path, acc):
+    t = DT * np.arange(len(acc))
+    path = tmp_path / "nodes.csv"
+    rows = ["0,101,102,103"] + [",".join(f"{v:.9f}" for v in [ti, *row]) for ti, row in zip(t, acc)]
+    path.write_text("\n".join(rows) + "\n")
+    got, dt = load_record(path)
+    assert got.shape == acc.shape
+    np.testing.assert_allclose(got, acc, atol=1e-9)
+    assert dt == pytest.approx(DT)
+    # Without a time column: node ids far above every sample.
+    path.write_text("\n".join(["101,102,103"] + [",".join(f"{v:.9f}" for v in row) for row in acc]) + "\n")
+    got, _ = load_record(path, fs=200)
+    assert got.shape == acc.shape
+
+
+def test_text_errors_name_file_row_and_column(tmp_path):
+    path = tmp_path / "bad.csv"
+    path.write_text("t,a,b\n0.0,1.0,2.0\n0.005,x,4.0\n0.01,5.0,6.0\n")
+    with pytest.raises(ValueError, match=r"bad.csv: row 3, column 2: 'x' is not a finite number"):
+        load_record(path)
+    path.write_text("0.0;1,5\n0.005;2,5\n0.01;3,5\n")
+    with pytest.raises(ValueError, match=r"bad.csv: .*pass delimiter=, decimal="):
+        load_record(path, delimiter=";")
+
+
+def test_npy_needs_fs_and_refuses_channels_first(tmp_path, acc):
+    path = tmp_path / "rec.npy"
+    np.save(path, acc.astype(np.float32))
+    with pytest.raises(ValueError, match=r"rec.npy: no sampling rate.*pass fs"):
+        load_record(path)
+    got, dt = load_record(path, fs=200)
+    np.testing.assert_allclose(got, acc, rtol=1e-6)
+    assert got.dtype == float and dt == pytest.approx(DT)
+    np.save(path, acc.T)
+    with pytest.raises(ValueError, match=r"rec.npy: .*transposed.*acc.T"):
+        load_record(path, fs=200)
+
+
+def test_npz_boolean_dt_refused(tmp_path, acc):
+    np.savez(tmp_path / "b.npz", acc=acc, dt=True)
+    with pytest.raises(ValueError, match=r"b.npz: dt must be one positive number"):
+        load_record(tmp_path / "b.npz")
+
+
+def test_uff_keeps_node_direction_units(tmp_path, acc):
+    from modal.io import read_record
+
+    path = write_uff58(tmp_path / "rec.uff", acc, DT, nodes=[11, 12, 17], direction=2)
+    record = read_record(path)
+    assert record.channels["node"].tolist() == [11, 12, 17]
+    assert record.channels["direction"].tolist() == [2, 2, 2]
+    assert record.channels["name"].tolist() == [f"acceleration channel {c}" for c in (1, 2, 3)]
+
+
+def test_lvm_multi_x_columns(tmp_path, acc):
+    from modal.io import read_record
+
+    header = (
+        "LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\nDecimal_Separator\t.\n"
+        "Multi_Headings\tYes\nX_Columns\tMulti\nTime_Pref\tAbsolute\nOperator\tx\n***End_of_Header***\t\n\t\n"
+        "Channels\t1\t\nSamples\t64\t\nY_Unit_Label\tg\t\nX_Dimension\tTime\t\nX0\t0.0000000000000000E+0\t\n"
+        "Delta_X\t0.000605\t\n***End_of_Header***\t\t\nX_Value\tAcceleration\tComment\n"
+    )
+    times = _printed_time(len(acc), 1 / FS_NI, 6)
+    body = "".join(f"{t}\t{v:.6E}\n" for t, v in zip(times, acc[:, 0]))
+    path = tmp_path / "rec.lvm"
+    path.write_text(header + body)
+    record = read_record(path)
+    assert record.acc.shape == (64, 1)
+    np.testing.assert_allclose(record.acc[:, 0], acc[:, 0], rtol=1e-6)
+    assert record.channels["unit"].tolist() == ["g"]
+    assert record.fs == pytest.approx(FS_NI, rel=2e-4)  # not the rounded Delta_X's 1652.9 Hz
+    assert not (tmp_path / "rec.lvm.pkl").exists()

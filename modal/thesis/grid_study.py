@@ -54,6 +54,10 @@ def grid_records(spec: Mapping) -> dict[int, GridRecord]:
         acc, dt = load_record(m["path"], m.get("fs"))
         if m.get("channels") is not None:
             acc = acc[:, list(m["channels"])]
+        problems = measured_record_problems(acc, dt, spec)
+        if problems:
+            raise ValueError(f"{m['path']}: this record cannot fill the grid chapter's tables "
+                             "(for its own modes use `modal identify`):\n  " + "\n  ".join(problems))
         return {0: GridRecord(acc, dt, np.full(4, np.nan), np.arange(acc.shape[1]))}
     grid = grid_model(spec)
     test = dict(spec["test"])
@@ -63,6 +67,32 @@ def grid_records(spec: Mapping) -> dict[int, GridRecord]:
         shaken = shake_test(grid, **{**test, "seed": seed})
         out[seed] = GridRecord(shaken.acceleration, shaken.dt, shaken.freq_hz, shaken.nodes)
     return out
+
+
+def measured_record_problems(acc: np.ndarray, dt: float, spec: Mapping) -> list[str]:
+    """Why a measured record cannot fill Tables 10-15 with the settings of
+    ``spec`` (empty when it can): too few channels for the accelerometers
+    chosen or the runs' sensors, cutoffs above its Nyquist frequency,
+    Hankel matrices longer than its (split) data sets, and a length or rate
+    other than ``grid.test``'s, which the tables' settings were sized for."""
+    from .config import grid_problems
+
+    n_samples, n_channels = acc.shape
+    problems = []
+    chosen = list(spec.get("accelerometers") or [])
+    needed = max(chosen) + 1 if chosen else spec["n_selected"]
+    if n_channels < max(2, needed):
+        problems.append(f"{n_channels} channel(s), but the grid chapter chooses "
+                        f"{len(chosen) or spec['n_selected']} accelerometers"
+                        + (f" up to channel {max(chosen)}" if chosen else ""))
+    test = spec["test"]
+    if n_samples != test["n_samples"] or abs(dt * test["fs"] - 1) > 1e-6:
+        problems.append(f"{n_samples} samples at {1 / dt:.6g} Hz, but grid.test describes {test['n_samples']} "
+                        f"at {test['fs']} Hz (the tables' Hankel sizes and cutoffs assume that record): "
+                        "set grid.test.n_samples and grid.test.fs to the record's")
+    sized = {**spec, "test": {**test, "n_samples": n_samples, "fs": 1 / dt}}
+    problems += [p for p in grid_problems(sized) if "grid.measured.path" not in p]
+    return problems
 
 
 def choose_accelerometers(record: GridRecord, spec: Mapping) -> np.ndarray:

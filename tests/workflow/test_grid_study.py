@@ -99,3 +99,19 @@ def test_config_block_matches_the_defaults():
             continue
         expected = defaults[key]
         assert (list(expected) if isinstance(expected, tuple) else expected) == value, key
+
+
+def test_measured_record_that_cannot_fill_the_tables_is_refused(spec, tmp_path):
+    """A one-channel record and a long record at another rate are refused
+    with the reasons, instead of printing Table 10 beside the thesis."""
+    rng = np.random.default_rng(0)
+    n, fs = spec["test"]["n_samples"], spec["test"]["fs"]
+    for name, acc, rate, reason in [
+        ("one.npz", rng.standard_normal((n, 1)), fs, "1 channel"),
+        ("long.npz", rng.standard_normal((20 * n, 6)), 100.0, "samples at 100 Hz, but grid.test describes"),
+    ]:
+        path = tmp_path / name
+        np.savez(path, acc=acc, fs=rate)
+        measured = {**spec, "source": "measured", "measured": {"path": str(path), "fs": None, "channels": None}}
+        with pytest.raises(ValueError, match=f"{name}: this record cannot fill.*\\n.*{reason}"):
+            gs.grid_records(measured)

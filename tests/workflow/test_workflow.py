@@ -62,6 +62,8 @@ BAD_SCHEMA = [
     ("studies.demo.cases.c2.damping", 1.5, "damping"),
     ("interpretations.named.era", "jerk", "jerk"),
     ("studies.demo.methods.era.colums", 100, "colums"),
+    ("measured.palisaden.excitation", "forced", "forced"),
+    ("measured.palisaden.max_order", 61, "61"),
 ]
 BAD_CHECK = [
     ("studies.demo.methods.era.cols", 4000, "studies.demo.methods.era: rows + cols"),
@@ -269,3 +271,12 @@ def test_script_runs_by_hand(workdir):
             "runpy.run_path('workflow/scripts/table.py', init_globals=g)" % SMALL_CONFIG_FILE)
     subprocess.run([sys.executable, "-c", code], cwd=workdir, check=True, capture_output=True, text=True)
     assert table.read_bytes() == before
+
+
+def test_measured_record_identified(workdir):
+    """config "measured": the Palisaden fixture's modes and diagram."""
+    modes = pd.read_csv(workdir / "results/measured/palisaden/modes.csv")
+    for published in (1.88, 2.42, 2.68):
+        assert (modes["freq_hz"] - published).abs().min() / published < 0.005
+    assert (workdir / "results/measured/palisaden/stabilisation.png").read_bytes()[:4] == b"\x89PNG"
+

@@ -10,7 +10,7 @@ ROOT = Path(__file__).resolve().parents[2]
 #: The small test config (YAML, layered over config/config.yaml).
 SMALL_CONFIG_FILE = "config/test/config.small.yaml"
 #: What a clone holds that the workflow reads (results/ is generated).
-PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks")
+PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data")
 
 
 def copy_project(dest: Path) -> Path:

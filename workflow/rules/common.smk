@@ -73,6 +73,12 @@ def numbers(mapping):
     return sorted(int(n) for n in mapping)
 
 
+def measured_outputs():
+    """modes.csv and the stabilisation diagram of every record in config "measured"."""
+    names = sorted(config.get("measured") or {})
+    return [f"results/measured/{n}/{f}" for n in names for f in ("modes.csv", "stabilisation.png")]
+
+
 def table_files(numbers):
     return [
         f"results/tables/table_{n:02d}.{ext}" for n in numbers for ext in ("csv", "md")

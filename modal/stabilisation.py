@@ -1,0 +1,466 @@
+"""Stabilisation diagram and automatic mode selection for ERA (thesis Ch. 4)
+on measured data: impulse or free-decay responses, or the NExT correlation
+functions of an ambient record (:func:`modal.correlations`).
+
+Every model order comes from one decomposition of ``H(0)`` (Eq. 35): the
+realisation of order ``k`` keeps the ``k`` largest singular triplets (Sec.
+4.4), i.e. the first ``k`` columns of ``P``, entries of ``D`` and rows of
+``Q^T``, so order ``k`` is a truncation of order ``max_order``
+(:func:`modal.era.decompose`, :func:`modal.era.realise`).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+import scipy.fft
+
+from ._checks import nonnegative_float, positive_float, positive_int, records
+from .era import decompose, realise
+from .hankel import hankel
+from .indicators import mac
+from .result import ModalWarning
+
+POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
+                "stable_freq", "stable_damping", "stable_shape", "stable"]
+MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"]
+
+
+@dataclass(frozen=True)
+class StabilityCriteria:
+    """Thresholds of the stabilisation diagram and of the mode selection.
+
+    Attributes
+    ----------
+    freq_rtol : float
+        A pole is stable in frequency when it is within this relative
+        distance of the nearest pole of the next lower order.
+    damping_rtol : float
+        ... and stable in damping when its damping ratio is within this
+        relative distance of that pole's.
+    mac_min : float
+        ... and stable in shape when the MAC with that pole is at least this.
+    max_damping : float
+        Physical poles have ``0 < damping < max_damping``.
+    mpc_min, mamc_min : float
+        Minimum modal phase collinearity and modal amplitude coherence.
+    cluster_distance : float
+        Poles join one mode when the distance ``|f_i - f_j| / max(f_i, f_j) +
+        1 - MAC_ij`` between the groups (average linkage) is below this.
+    min_poles : int, optional
+        A cluster with fewer poles is not a mode; default 40 % of the orders
+        computed, at least 3 (a single channel makes every MAC 1, so spurious
+        poles near a mode are told apart only by how rarely they recur).
+    """
+
+    freq_rtol: float = 0.01
+    damping_rtol: float = 0.05
+    mac_min: float = 0.98
+    max_damping: float = 0.1
+    mpc_min: float = 0.7
+    mamc_min: float = 0.5
+    cluster_distance: float = 0.02
+    min_poles: int | None = None
+
+    def __post_init__(self):
+        for name in ("freq_rtol", "damping_rtol", "max_damping", "cluster_distance"):
+            positive_float(name, getattr(self, name))
+        for name in ("mac_min", "mpc_min", "mamc_min"):
+            value = nonnegative_float(name, getattr(self, name))
+            if value > 1:
+                raise ValueError(f"{name} must be in [0, 1], got {value}")
+        if self.min_poles is not None:
+            positive_int("min_poles", self.min_poles)
+
+
+@dataclass(frozen=True)
+class Stabilisation:
+    """Poles of every model order and the modes selected from them.
+
+    Attributes
+    ----------
+    modes : pandas.DataFrame
+        One row per selected mode, by frequency: ``mode``, ``freq_hz`` and
+        ``freq_std_hz``, ``damping`` and ``damping_std`` (ratio), ``n_poles``
+        (poles clustered into it), mean ``mpc`` and ``mamc``.
+    shapes : ndarray, shape (n_channels, n_modes)
+        Representative shape of each mode: that of its medoid pole.
+    poles : pandas.DataFrame
+        One row per pole of every order: ``order``, ``freq_hz``, ``damping``,
+        ``mpc``, ``mamc``, ``real_pole``, the stability flags ``stable_freq``,
+        ``stable_damping``, ``stable_shape``, ``stable`` (all three),
+        ``physical`` (the quality criteria) and ``mode`` (0 when unselected).
+    pole_shapes : ndarray, shape (n_poles, n_channels)
+    singular_values : ndarray
+        Singular values of ``H(0)``.
+    spectrum_hz, spectrum : ndarray
+        Mean amplitude spectrum of the data, drawn behind the diagram.
+    criteria : StabilityCriteria
+    """
+
+    modes: pd.DataFrame
+    shapes: np.ndarray
+    poles: pd.DataFrame
+    pole_shapes: np.ndarray
+    singular_values: np.ndarray
+    spectrum_hz: np.ndarray
+    spectrum: np.ndarray
+    criteria: StabilityCriteria = field(default_factory=StabilityCriteria)
+
+    def plot(self, fmax=None, title=None, ax=None):
+        """The stabilisation diagram; see :func:`stabilisation_figure`."""
+        return stabilisation_figure(self, fmax=fmax, title=title, ax=ax)
+
+
+def stabilisation(
+    y,
+    dt,
+    max_order,
+    rows,
+    cols=None,
+    start=0,
+    fmax=None,
+    criteria: StabilityCriteria | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> Stabilisation:
+    """ERA at every even model order ``2 ... max_order`` from one SVD,
+    stability between orders, and modes selected by clustering.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, l) or (m, n_samples, l)
+        Free-decay or impulse responses, or correlation functions
+        ``(n_refs, n_lags, l)`` from :func:`modal.correlations`.
+    dt : float
+        Sampling interval (s).
+    max_order : int
+        Largest model order (state dimension ``2 n``, even), at most the
+        smaller dimension ``min(l rows, m cols)`` of ``H(0)``.
+    rows : int
+        Block rows ``r`` of ``H(0)`` (Eq. 34). ``r dt`` should span a few
+        periods of the lowest mode of interest.
+    cols : int, optional
+        Block columns ``s``; by default every sample the data allow.
+    start : int
+        First sample (Eq. 34's ``k - 1``), e.g. :func:`modal.decay_start`.
+    fmax : float, optional
+        Modes are selected below this frequency (Hz) only; poles above it
+        stay in ``poles``.
+    criteria : StabilityCriteria, optional
+    progress : callable, optional
+        Called as ``progress(done, total)`` after each order.
+
+    Returns
+    -------
+    Stabilisation
+    """
+    y = records("y", y)
+    dt = positive_float("dt", dt)
+    max_order = positive_int("max_order", max_order, minimum=2)
+    rows = positive_int("rows", rows)
+    start = positive_int("start", start, minimum=0)
+    criteria = StabilityCriteria() if criteria is None else criteria
+    if not isinstance(criteria, StabilityCriteria):
+        raise ValueError(f"criteria must be a StabilityCriteria, got {type(criteria).__name__}")
+    fmax = None if fmax is None else positive_float("fmax", fmax)
+    m, n_samples, l = y.shape
+    if cols is None:
+        cols = n_samples - start - rows
+        if cols < 1:
+            raise ValueError(f"rows = {rows} from start = {start} leaves no column of the {n_samples}-sample data")
+    cols = positive_int("cols", cols)
+    if max_order % 2:
+        raise ValueError(f"max_order must be even (complex-conjugate pole pairs), got {max_order}")
+    if max_order > min(rows * l, cols * m):
+        raise ValueError(
+            f"max_order = {max_order} exceeds the smaller dimension of H(0) ({rows * l} x {cols * m}): "
+            "reduce max_order or enlarge rows/cols"
+        )
+    h_ext = hankel(y, rows + 1, cols, start)
+    h0, h1 = h_ext[:-l], h_ext[l:]
+    p, d, qt, sv = decompose(h0, max_order)
+    rank = int(np.sum(d > sv[0] * np.finfo(float).eps * max(h0.shape)))
+    if rank < max_order:
+        warnings.warn(f"H(0) has numerical rank {rank}: orders above it are not computed", ModalWarning, stacklevel=2)
+        max_order = rank - rank % 2
+    # realise() uses H(1) only through P^T H(1) (Eq. 41) and P only through
+    # P^T H(1) and E_p^T P (Eqs. 43, 45). Every truncation P[:, :k] lies in
+    # span(P), so the stacked pair [E_p^T P; I] and [0; P^T H(1)] gives the
+    # same products exactly, with l + max_order rows instead of l r: the
+    # projection costs one product, then each order is cheap.
+    p_stacked = np.vstack([p[:l], np.eye(p.shape[1])])
+    h1_stacked = np.vstack([np.zeros((l, h1.shape[1])), p.T @ h1])
+    orders = list(range(2, max_order + 1, 2))
+    columns = {name: [] for name in POLE_COLUMNS}
+    shapes_out, previous = [], None
+    for done, order in enumerate(orders, 1):
+        result = realise(p_stacked[:, :order], d[:order], qt[:order], h1_stacked, n_channels=l, n_sets=m, dt=dt,
+                         singular_values=sv)
+        current = {
+            "order": np.full(result.n_modes, order),
+            "freq_hz": result.freq_hz,
+            "damping": result.damping,
+            "mpc": result.mpc,
+            "mamc": result.mamc,
+            "real_pole": result.real_pole,
+        }
+        current.update(_stability(current, result.shapes, previous, criteria))
+        for name in POLE_COLUMNS:
+            columns[name].append(current[name])
+        shapes_out.append(result.shapes.T)
+        previous = (current, result.shapes)
+        if progress is not None:
+            progress(done, len(orders))
+    poles = pd.DataFrame({name: np.concatenate(values) if values else [] for name, values in columns.items()})
+    pole_shapes = np.concatenate(shapes_out) if shapes_out else np.empty((0, l))
+    with np.errstate(invalid="ignore"):
+        poles["physical"] = (
+            ~poles["real_pole"]
+            & (poles["damping"] > 0)
+            & (poles["damping"] < criteria.max_damping)
+            & (poles["mpc"] >= criteria.mpc_min)
+            & (poles["mamc"] >= criteria.mamc_min)
+            & (poles["freq_hz"] < (0.5 / dt if fmax is None else fmax))
+        )
+    min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
+    poles["mode"], modes, shapes = _select_modes(poles, pole_shapes, criteria.cluster_distance, min_poles)
+    if modes.empty:
+        warnings.warn("no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria",
+                      ModalWarning, stacklevel=2)
+    spectrum_hz, spectrum = _mean_spectrum(y[:, start:], dt)
+    return Stabilisation(modes, shapes, poles, pole_shapes, sv, spectrum_hz, spectrum, criteria)
+
+
+def _stability(current, shapes, previous, criteria) -> dict:
+    """Compare each pole with the nearest-frequency pole of the previous order."""
+    n = len(current["freq_hz"])
+    if previous is None or len(previous[0]["freq_hz"]) == 0 or n == 0:
+        false = np.zeros(n, dtype=bool)
+        return {"stable_freq": false, "stable_damping": false.copy(), "stable_shape": false.copy(), "stable": false.copy()}
+    before, before_shapes = previous
+    f, f0 = current["freq_hz"], before["freq_hz"]
+    nearest = np.argmin(np.abs(f[:, None] - f0[None, :]), axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        stable_freq = np.abs(f - f0[nearest]) <= criteria.freq_rtol * f
+        zeta, zeta0 = current["damping"], before["damping"][nearest]
+        stable_damping = np.abs(zeta - zeta0) <= criteria.damping_rtol * np.abs(zeta0)
+    stable_shape = mac(shapes, before_shapes)[np.arange(n), nearest] >= criteria.mac_min
+    stable = stable_freq & stable_damping & stable_shape
+    return {"stable_freq": stable_freq, "stable_damping": stable_damping, "stable_shape": stable_shape, "stable": stable}
+
+
+def _select_modes(poles: pd.DataFrame, pole_shapes: np.ndarray, cluster_distance: float, min_poles: int):
+    """Cluster the stable physical poles (average linkage, scipy.cluster) by
+    frequency and shape into modes."""
+    from scipy.cluster.hierarchy import fcluster, linkage
+    from scipy.spatial.distance import squareform
+
+    labels = np.zeros(len(poles), dtype=int)
+    candidates = np.flatnonzero((poles["stable"] & poles["physical"]).to_numpy())
+    empty = pd.DataFrame({c: pd.Series(dtype=float) for c in MODE_COLUMNS})
+    if len(candidates) < max(2, min_poles):
+        return labels, empty, np.empty((pole_shapes.shape[1], 0))
+    f = poles["freq_hz"].to_numpy()[candidates]
+    shapes = pole_shapes[candidates].T
+    distance = np.abs(f[:, None] - f[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
+    distance = np.clip((distance + distance.T) / 2, 0, None)
+    np.fill_diagonal(distance, 0)
+    clusters = fcluster(linkage(squareform(distance, checks=False), method="average"), cluster_distance, "distance")
+    table = {name: poles[name].to_numpy() for name in ("freq_hz", "damping", "mpc", "mamc")}
+    rows, reps = [], []
+    for cluster in np.unique(clusters):
+        members = np.flatnonzero(clusters == cluster)
+        if len(members) < min_poles:
+            continue
+        medoid = members[np.argmin(distance[np.ix_(members, members)].sum(axis=1))]
+        group = {name: values[candidates[members]] for name, values in table.items()}
+        rows.append({
+            "freq_hz": group["freq_hz"].mean(),
+            "freq_std_hz": group["freq_hz"].std(ddof=1),
+            "damping": group["damping"].mean(),
+            "damping_std": group["damping"].std(ddof=1),
+            "n_poles": len(members),
+            "mpc": group["mpc"].mean(),
+            "mamc": group["mamc"].mean(),
+            "members": candidates[members],
+        })
+        reps.append(shapes[:, medoid])
+    if not rows:
+        return labels, empty, np.empty((pole_shapes.shape[1], 0))
+    order = np.argsort([r["freq_hz"] for r in rows], kind="stable")
+    for number, i in enumerate(order, 1):
+        labels[rows[i].pop("members")] = number
+        rows[i]["mode"] = number
+    modes = pd.DataFrame([rows[i] for i in order])[MODE_COLUMNS]
+    return labels, modes, np.column_stack([reps[i] for i in order])
+
+
+def _mean_spectrum(y, dt, min_bins=4096):
+    """Root-mean-square amplitude spectrum over data sets and channels.
+
+    The data are tapered by the falling half of a Hann window (for
+    correlation functions this is the Blackman-Tukey spectral estimate;
+    for a free decay it hides the cut at the end) and zero-padded to at
+    least ``min_bins`` frequencies, so short records give smooth curves."""
+    n = y.shape[1]
+    taper = np.hanning(2 * n)[n:]
+    n_fft = max(n, 2 * min_bins)
+    amplitude = np.abs(scipy.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
+    return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(np.mean(amplitude**2, axis=(0, 2)))
+
+
+def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None):
+    """Stabilisation diagram: poles by model order over frequency, with the
+    data's spectrum (log scale, right axis) behind them.
+
+    Grey dots: every pole; blue: stable (frequency, damping and shape);
+    filled red: stable and physical, clustered into a mode; vertical lines:
+    the selected modes. Imports matplotlib only when called.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    import matplotlib.pyplot as plt
+
+    if not isinstance(result, Stabilisation):
+        raise ValueError(f"result must be a Stabilisation, got {type(result).__name__}")
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(8, 4.5), layout="constrained")
+    else:
+        fig = ax.figure
+    fmax = float(result.spectrum_hz[-1]) if fmax is None else positive_float("fmax", fmax)
+    poles = result.poles
+    spectrum_ax = ax.twinx()
+    band = result.spectrum_hz <= fmax
+    spectrum_ax.semilogy(result.spectrum_hz[band], result.spectrum[band], color="0.75", lw=1, zorder=0)
+    spectrum_ax.set_ylabel("amplitude spectrum")
+    spectrum_ax.set_yticks([])
+    ax.set_zorder(spectrum_ax.get_zorder() + 1)
+    ax.patch.set_visible(False)
+    shown = poles["freq_hz"] <= fmax
+    groups = [
+        (shown, dict(color="0.6", marker=".", s=4, label="pole")),
+        (shown & poles["stable"], dict(color="tab:blue", marker="o", s=10, facecolors="none", label="stable")),
+        (shown & (poles["mode"] > 0), dict(color="tab:red", marker="o", s=12, label="in a mode")),
+    ]
+    for mask, style in groups:
+        ax.scatter(poles.loc[mask, "freq_hz"], poles.loc[mask, "order"], **style)
+    for f in result.modes["freq_hz"]:
+        if f <= fmax:
+            ax.axvline(f, color="tab:red", lw=0.6, alpha=0.5)
+    ax.set_xlim(0, fmax)
+    ax.set_xlabel("frequency (Hz)")
+    ax.set_ylabel("model order")
+    ax.legend(loc="upper left", fontsize="small", framealpha=0.9)
+    if title:
+        ax.set_title(title)
+    return fig
+
+
+EXCITATIONS = ("ambient", "free_decay")
+
+
+def identify_record(
+    acc,
+    dt,
+    excitation,
+    max_order=60,
+    fmax=None,
+    rows=None,
+    refs=None,
+    highpass_hz=None,
+    criteria: StabilityCriteria | None = None,
+    log: Callable[[str], None] | None = None,
+    progress: Callable[[int, int], None] | None = None,
+) -> tuple[Stabilisation, float]:
+    """Modes of a measured record, as ``modal identify`` finds them.
+
+    Steps: remove a linear trend (:func:`detrend`); with ``fmax``, decimate
+    (:func:`decimate`) by ``q = floor(fs / (2.5 fmax))`` so that the
+    anti-aliasing filter passes ``fmax``; optionally high-pass
+    (:func:`zero_phase_filter`). Then
+
+    - ``"ambient"``: NExT correlation functions (:func:`modal.correlations`,
+      biased) with ``2 rows + 1`` lags, one data set per reference, are the
+      ERA data;
+    - ``"free_decay"``: the record from its impact on
+      (:func:`modal.decay_start`) is.
+
+    :func:`stabilisation` with ``rows`` block rows and as many columns as the
+    data allow (free decay: at most ``10 rows``, the decay is then long gone
+    into noise for lightly damped structures sampled at ``2.5 fmax``).
+
+    Parameters
+    ----------
+    acc : array_like, shape (n_samples, n_channels)
+    dt : float
+        Sampling interval (s).
+    excitation : {"ambient", "free_decay"}
+    max_order : int
+        Largest model order (even).
+    fmax : float, optional
+        Highest frequency of interest (Hz).
+    rows : int, optional
+        Block rows; default ``max(60, ceil(2 max_order / n_channels))`` so
+        ``H(0)`` has at least twice ``max_order`` rows.
+    refs : sequence of int, optional
+        Reference channels of the correlations (ambient); default all.
+    highpass_hz : float, optional
+    criteria : StabilityCriteria, optional
+    log : callable, optional
+        Receives one line per step (for progress messages).
+    progress : callable, optional
+        Passed to :func:`stabilisation`.
+
+    Returns
+    -------
+    result : Stabilisation
+    dt : float
+        The sampling interval after decimation.
+    """
+    from .correlation import correlations
+    from .signals import decay_start, decimate, detrend, zero_phase_filter
+
+    log = log or (lambda message: None)
+    if excitation not in EXCITATIONS:
+        raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
+    y = detrend(acc)
+    dt = positive_float("dt", dt)
+    max_order = positive_int("max_order", max_order, minimum=2)
+    n_channels = y.shape[1]
+    rows = max(60, math.ceil(2 * max_order / n_channels)) if rows is None else positive_int("rows", rows)
+    if fmax is not None:
+        fmax = positive_float("fmax", fmax)
+        if fmax >= 0.5 / dt:
+            raise ValueError(f"fmax = {fmax} Hz must be below the Nyquist frequency {0.5 / dt:g} Hz")
+        factor = int(1 / (dt * 2.5 * fmax))
+        if factor >= 2:
+            log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
+            y, dt = decimate(y, dt, factor)
+    if highpass_hz is not None:
+        log(f"high-pass at {highpass_hz:g} Hz")
+        y = zero_phase_filter(y, dt, highpass_hz=highpass_hz)
+    if excitation == "ambient":
+        n_lags = 2 * rows + 1
+        if n_lags > y.shape[0] // 2:
+            raise ValueError(f"rows = {rows} needs {n_lags} lags, more than half the {y.shape[0]}-sample record: "
+                             "reduce rows or give a longer record")
+        log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
+        data, start, cols = correlations(y, n_lags, refs=refs), 0, None
+    else:
+        start = decay_start(y)
+        log(f"free decay from sample {start} (t = {start * dt:.4g} s)")
+        data = y
+        cols = min(y.shape[0] - start - rows, 10 * rows)
+        if cols < 1:
+            raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
+    log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
+    result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
+                           progress=progress)
+    return result, dt

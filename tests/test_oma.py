@@ -1,0 +1,197 @@
+"""Operational modal analysis of measured records: NExT correlations,
+preprocessing, the stabilisation diagram with automatic mode selection, and
+the Palisaden record (issue 10)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import modal
+from modal.experiment import foh_modal_response
+
+PALISADEN = Path(__file__).parent / "data" / "palisaden_20hz_30min.npy"
+PALISADEN_MODES_HZ = [1.88, 2.42, 2.68]  # pyOMA2 documentation (see tests/data/PALISADEN.md)
+
+# A simply supported beam with sensors off the thesis's evenly spaced layout.
+BEAM = modal.SimplySupportedBeam(length=10.0, bending_stiffness=2.0e6, mass_per_length=100.0)
+SENSORS_X = np.array([0.9, 2.3, 4.1, 6.6, 8.7])
+DAMPING = np.array([0.01, 0.015, 0.02])
+
+
+def ambient_beam(duration_s=400.0, dt=0.01, seed=1):
+    """Acceleration of three beam modes under spatially white, Gaussian white
+    noise (exact first-order-hold integration), sensors at SENSORS_X."""
+    omega = BEAM.natural_frequencies(3)
+    shapes = BEAM.mode_shapes(SENSORS_X, 3)
+    rng = np.random.default_rng(seed)
+    force = rng.standard_normal((int(duration_s / dt), 3))
+    _, _, acc_modal = foh_modal_response(omega, DAMPING, force, dt)
+    return acc_modal @ shapes.T, dt, omega / (2 * np.pi)
+
+
+def test_correlations_equal_direct_sums_both_estimators():
+    rng = np.random.default_rng(0)
+    y = rng.standard_normal((2, 300, 3))
+    for estimator in ("biased", "unbiased"):
+        r = modal.correlations(y, 25, refs=[2, 0], estimator=estimator)
+        assert r.shape == (2, 25, 3)
+        for i, ref in enumerate([2, 0]):
+            for k in (0, 7, 24):
+                direct = sum(y[m, k:, :].T @ y[m, : 300 - k, ref] for m in range(2)) / 2
+                direct /= 300 if estimator == "biased" else 300 - k
+                np.testing.assert_allclose(r[i, k], direct, rtol=1e-12, atol=1e-14)
+
+
+def test_correlations_of_cosines_closed_form():
+    """R(k) of a*cos(w t) is a^2/2 cos(w k dt) (unbiased, whole periods)."""
+    dt, f = 0.01, 2.0
+    t = dt * np.arange(5000)  # 100 whole periods
+    y = np.column_stack([3 * np.cos(2 * np.pi * f * t), np.sin(2 * np.pi * f * t)])
+    r = modal.correlations(y, 40, refs=[0], estimator="unbiased")
+    lag = dt * np.arange(40)
+    np.testing.assert_allclose(r[0, :, 0], 4.5 * np.cos(2 * np.pi * f * lag), atol=0.02)
+    np.testing.assert_allclose(r[0, :, 1], 1.5 * np.sin(2 * np.pi * f * lag), atol=0.02)
+
+
+def test_correlations_reject_bad_input():
+    y = np.ones((50, 2))
+    with pytest.raises(ValueError, match="n_lags = 51 exceeds"):
+        modal.correlations(y, 51)
+    with pytest.raises(ValueError, match="refs must be distinct channel indices"):
+        modal.correlations(y, 5, refs=[2])
+    with pytest.raises(ValueError, match="estimator"):
+        modal.correlations(y, 5, estimator="welch")
+
+
+def test_ambient_beam_frequencies_and_damping_from_stabilisation():
+    acc, dt, f_exact = ambient_beam()
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=40, fmax=f_exact[2] * 1.3)
+    f = result.modes["freq_hz"].to_numpy()
+    assert len(f) == 3
+    np.testing.assert_allclose(f, f_exact, rtol=0.005)
+    # Damping from 400 s of white noise: a 25 % statistical tolerance.
+    np.testing.assert_allclose(result.modes["damping"], DAMPING, rtol=0.25)
+    shapes_exact = BEAM.mode_shapes(SENSORS_X, 3)
+    assert np.all(np.diag(modal.mac(result.shapes, shapes_exact)) > 0.99)
+
+
+def test_free_decay_closed_form_with_decay_start():
+    """Damped cosines after 300 samples of noise: decay_start finds the
+    impact and the stabilisation the exact poles."""
+    dt = 1 / 500
+    f_exact, zeta = np.array([7.3, 31.0, 64.0]), np.array([0.004, 0.01, 0.02])
+    shapes = BEAM.mode_shapes(SENSORS_X[:3], 3)
+    t = dt * np.arange(4000)
+    modal_decay = np.exp(-zeta * 2 * np.pi * f_exact * t[:, None]) * np.cos(
+        2 * np.pi * f_exact * np.sqrt(1 - zeta**2) * t[:, None])
+    rng = np.random.default_rng(4)
+    acc = np.vstack([np.zeros((300, 3)), modal_decay @ shapes.T]) + 1e-4 * rng.standard_normal((4300, 3))
+    assert modal.decay_start(acc) == 300
+    result, _ = modal.identify_record(acc, dt, "free_decay", max_order=30, rows=60)
+    np.testing.assert_allclose(result.modes["freq_hz"], f_exact, rtol=1e-3)
+    np.testing.assert_allclose(result.modes["damping"], zeta, rtol=0.05)
+
+
+def test_stabilisation_orders_are_truncations_of_one_decomposition():
+    """The poles of order k equal ERA's with n_modes = k / 2."""
+    acc, dt, _ = ambient_beam(duration_s=100)
+    r = modal.correlations(modal.detrend(acc), 81)
+    result = modal.stabilisation(r, dt, 12, rows=40, cols=40)
+    assert sorted(result.poles["order"].unique()) == list(range(2, 13, 2))
+    for order in (6, 12):
+        era = modal.era(r, dt, order // 2, rows=40, cols=40)
+        poles = result.poles[result.poles["order"] == order]
+        np.testing.assert_allclose(poles["freq_hz"], era.freq_hz, rtol=1e-10)
+        np.testing.assert_allclose(poles["damping"], era.damping, rtol=1e-8)
+
+
+def test_stabilisation_rejects_bad_input():
+    r = np.ones((2, 50, 3))
+    with pytest.raises(ValueError, match="max_order must be even"):
+        modal.stabilisation(r, 0.1, 7, rows=10)
+    with pytest.raises(ValueError, match="max_order = 40 exceeds"):
+        modal.stabilisation(r, 0.1, 40, rows=10)
+    with pytest.raises(ValueError, match="criteria"):
+        modal.stabilisation(r, 0.1, 4, rows=10, criteria={"mac_min": 0.9})
+    with pytest.raises(ValueError, match="mac_min must be in"):
+        modal.StabilityCriteria(mac_min=1.5)
+    with pytest.raises(ValueError, match="excitation"):
+        modal.identify_record(np.ones((100, 2)), 0.1, "forced")
+
+
+def test_preprocessing():
+    dt = 0.001
+    t = dt * np.arange(20000)
+    slow, fast = np.sin(2 * np.pi * 3 * t), 0.5 * np.sin(2 * np.pi * 180 * t)
+    y = np.column_stack([slow + fast + 2 + 0.1 * t])
+    # Zero phase: the 3 Hz wave passes a 20 Hz low-pass in place (edges aside).
+    low = modal.zero_phase_filter(modal.detrend(y), dt, lowpass_hz=20)
+    np.testing.assert_allclose(low[2000:-2000], modal.detrend(slow[:, None])[2000:-2000], atol=2e-3)
+    # Decimation by 30 (stages 10 x 3): 180 Hz would alias to 13.3 Hz; it is removed.
+    dec, dt_dec = modal.decimate(y - y.mean(), dt, 30)
+    assert dt_dec == pytest.approx(0.03) and dec.shape == (667, 1)
+    freqs, amp = modal.amplitude_spectrum(modal.detrend(dec), dt_dec)
+    assert amp[np.argmin(np.abs(freqs - 40 / 3)), 0] < 1e-3
+    with pytest.raises(ValueError, match="lowpass_hz = 600 must be below the Nyquist"):
+        modal.zero_phase_filter(y, dt, lowpass_hz=600)
+    with pytest.raises(ValueError, match="highpass_hz = 30 must be below lowpass_hz"):
+        modal.zero_phase_filter(y, dt, highpass_hz=30, lowpass_hz=20)
+    with pytest.raises(ValueError, match="kind"):
+        modal.detrend(y, "quadratic")
+
+
+def test_palisaden_three_modes_within_half_a_percent():
+    acc, dt = modal.load_record(PALISADEN, fs=20)
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=60, fmax=5, highpass_hz=0.5)
+    f = result.modes["freq_hz"].to_numpy()
+    for published in PALISADEN_MODES_HZ:
+        assert np.min(np.abs(f - published)) / published < 0.005
+    assert np.all(result.modes["damping"].between(0.005, 0.05))
+
+
+def test_cli_identify_palisaden(tmp_path):
+    from modal.cli import main
+
+    out = tmp_path / "pal"
+    code = main(["identify", str(PALISADEN), "--fs", "20", "--ambient", "--fmax", "5", "--highpass", "0.5",
+                 "--channels", "0,1,2,3,4,5", "--refs", "0,1,2,3", "--out", str(out), "--quiet"])
+    assert code == 0
+    import pandas as pd
+
+    modes = pd.read_csv(out / "modes.csv")
+    for column in ("freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"):
+        assert column in modes
+    for published in PALISADEN_MODES_HZ:
+        assert np.min(np.abs(modes["freq_hz"] - published)) / published < 0.005
+    assert (out / "stabilisation.png").stat().st_size > 10_000
+
+
+def test_cli_errors_and_exit_codes(tmp_path, capsys):
+    from modal.cli import EXIT_BAD_FILE, EXIT_CANNOT_IDENTIFY, main
+
+    out = str(tmp_path / "o")
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t,a\n0,1\n0.1,x\n0.2,3\n")
+    assert main(["identify", str(bad), "--ambient", "--out", out]) == EXIT_BAD_FILE
+    assert "bad.csv: row 3, column 2" in capsys.readouterr().err
+    short = tmp_path / "short.npy"
+    np.save(short, np.random.default_rng(0).standard_normal((100, 2)))
+    assert main(["identify", str(short), "--fs", "10", "--ambient", "--out", out]) == EXIT_CANNOT_IDENTIFY
+    assert "longer record" in capsys.readouterr().err
+    assert main(["identify", str(short), "--fs", "10", "--ambient", "--channels", "0,5", "--out", out]) \
+        == EXIT_CANNOT_IDENTIFY
+    with pytest.raises(SystemExit) as exc:
+        main(["identify", str(short), "--ambient", "--free-decay", "--out", out])
+    assert exc.value.code == 2
+    with pytest.raises(SystemExit):
+        main(["identify", str(short), "--ambient", "--channels", "a,b", "--out", out])
+
+
+def test_python_m_modal_and_import_without_matplotlib():
+    code = "import sys, modal; assert 'matplotlib' not in sys.modules and 'lvm_read' not in sys.modules"
+    subprocess.run([sys.executable, "-c", code], check=True)
+    run = subprocess.run([sys.executable, "-m", "modal", "identify", "--help"], capture_output=True, text=True)
+    assert run.returncode == 0 and "--free-decay" in run.stdout
