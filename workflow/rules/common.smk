@@ -24,13 +24,21 @@ GRID_CODE = code(
     "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
 )
 TABLE_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/tables.py", "modal/thesis/report.py"
+    "modal/thesis/__init__.py",
+    "modal/thesis/tables.py",
+    "modal/thesis/report.py",
+    "modal/thesis/intermediates.py",
 )
-GRID_TABLE_CODE = code("modal/grid.py") + GRID_CODE + code("modal/thesis/report.py")
+GRID_TABLE_CODE = (
+    code("modal/grid.py")
+    + GRID_CODE
+    + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
+)
 PLOT_CODE = code(
     "modal/thesis/__init__.py",
     "modal/thesis/plots.py",
     "modal/thesis/tables.py",
+    "modal/thesis/intermediates.py",
     "modal/indicators.py",
     "modal/structures.py",
     "modal/signals.py",
