@@ -283,3 +283,101 @@ def test_corrupt_grid_files_are_refused_naming_them(small_workflow, tmp_path):
     (tmp_path / "garbage.csv").write_bytes(b"\xff\xfe\x00garbage")
     with pytest.raises(ValueError, match="garbage.csv"):
         read_selection(tmp_path / "garbage.csv", spec)
+
+
+# --- resume: the main command alone, after SIGINT or SIGKILL ----------------------
+sys.path.insert(0, str(ROOT / "workflow"))
+import stale_locks  # noqa: E402
+
+FAULT_TARGETS = [f"results/tables/table_{n:02d}.csv" for n in (1, 2, 5)]
+
+
+def test_stale_lock_is_cleared_and_live_run_is_reported(tmp_path):
+    locks = tmp_path / ".snakemake/locks"
+    locks.mkdir(parents=True)
+    (locks / "0.input.lock").write_text("x")
+    assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
+    (locks / "0.output.lock").write_text("x")
+    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", "snakemake"], cwd=tmp_path)
+    try:
+        time.sleep(0.5)
+        assert stale_locks.main(tmp_path) == stale_locks.ACTIVE
+        assert (locks / "0.output.lock").exists()
+    finally:
+        live.kill()
+        live.wait()
+    assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
+
+
+def regenerate_project(dest):
+    """A project copy whose ``.venv`` points at this interpreter (setup.sh finds
+    it installed), so ``bash workflow/regenerate.sh`` runs as a user would."""
+    work = copy_project(dest)
+    (work / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
+    bin_ = work / ".venv/bin"
+    bin_.mkdir(parents=True)
+    for name, command in (("python", [sys.executable]), ("snakemake", [sys.executable, "-m", "snakemake"])):
+        (bin_ / name).write_text("#!/bin/sh\nexec " + " ".join(command) + ' "$@"\n')
+        (bin_ / name).chmod(0o755)
+    import hashlib
+    (work / ".venv/.installed-workflow").write_text(hashlib.sha256((work / "pyproject.toml").read_bytes())
+                                                    .hexdigest() + "\n")
+    return work
+
+
+def regenerate(work, **kwargs):
+    env = {**os.environ, "CORES": "2"}
+    return subprocess.Popen(["bash", "workflow/regenerate.sh", *FAULT_TARGETS, "--configfile", SMALL_CONFIG_FILE],
+                            cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                            start_new_session=True, **kwargs)
+
+
+@pytest.mark.parametrize("sig, seed", [(signal.SIGKILL, 13), (signal.SIGINT, 14)])
+def test_interrupted_run_resumes_with_the_main_command(small_workflow, tmp_path, sig, seed):
+    """Kill a run at a seeded random point (the whole process group: a
+    flaky machine, or Ctrl-C), rerun the main command once: it resumes and
+    the tables equal a clean run's byte for byte. While the first run is
+    alive, a second is refused with a clear message."""
+    work = regenerate_project(tmp_path)
+    delay = random.Random(seed).uniform(3.0, 15.0)
+    first = regenerate(work)
+    time.sleep(delay)
+    if first.poll() is None:
+        second = regenerate(work)
+        out, _ = second.communicate(timeout=120)
+        assert second.returncode == 3, out
+        assert "Another" in out and "regenerate.sh" in out
+        os.killpg(first.pid, sig)
+    first.communicate(timeout=120)
+    resumed = regenerate(work)
+    out, _ = resumed.communicate(timeout=600)
+    assert resumed.returncode == 0, out[-3000:]
+    for target in FAULT_TARGETS:
+        assert (work / target).read_bytes() == (small_workflow / target).read_bytes(), target
+
+
+# --- every rule declares every file it reads ----------------------------------------
+AUDITED = [("table", {"number": "01"}), ("grid_table", {"number": "10"}), ("shape_figures", {}),
+           ("noise_figures", {}), ("cera_sensitivity", {}), ("grid_figures", {}), ("summary", {}),
+           ("report_html", {})]
+
+
+@pytest.fixture(scope="module")
+def audit_copy(small_workflow, tmp_path_factory):
+    """A copy of the finished small run: the audited scripts rewrite their outputs."""
+    import shutil
+    dest = tmp_path_factory.mktemp("audit") / "wf"
+    shutil.copytree(small_workflow, dest, ignore=shutil.ignore_patterns(".snakemake"))
+    return dest
+
+
+@pytest.mark.parametrize("rule, wildcards", AUDITED, ids=[r for r, _ in AUDITED])
+def test_rule_declares_every_file_its_script_reads(audit_copy, rule, wildcards):
+    """The script, run by hand with an audit hook on ``open``, reads no file
+    under results/, config/, data/ or notebooks/ that its rule does not declare."""
+    proc = subprocess.run([sys.executable, str(ROOT / "tests/workflow/audit_inputs.py"), rule,
+                           *(f"{k}={v}" for k, v in wildcards.items()), f"--configfile={SMALL_CONFIG_FILE}"],
+                          cwd=audit_copy, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    line = [ln for ln in proc.stdout.splitlines() if ln.startswith("UNDECLARED:")][-1]
+    assert line == "UNDECLARED:", f"rule {rule} reads undeclared files: {line}"

@@ -213,10 +213,11 @@ def chapter_outputs(name):
             + figure_files(numbers(config["shape_figures"]))
         )
     if name == "02_noise_study":
+        # it reads every table the summary lists to find the noisy ones (grid too)
         return (
             figure_files(numbers(config["noise_figures"]))
-            + table_files(noisy_tables())
-            + note_files(noisy_tables())
+            + table_files(all_tables())
+            + note_files(all_tables())
             + identified("noise")
         )
     if name == "03_spillover":
