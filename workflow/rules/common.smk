@@ -121,19 +121,6 @@ def tables_of(*studies):
     return [n for n in table_numbers() if study_of_table(n) in studies]
 
 
-def noisy_tables():
-    """Beam tables whose case adds sensor noise (identified over many seeds)."""
-    out = []
-    for n in table_numbers():
-        spec = table_spec(n)
-        case = (
-            config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
-        )
-        if case.get("noise", 0) > 0:
-            out.append(n)
-    return out
-
-
 # --- the grid chapter (grid.smk): numbers from config ----------------------------
 def grid_tables():
     return sorted(int(n) for n in config.get("grid", {}).get("tables", {}))
