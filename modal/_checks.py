@@ -19,7 +19,7 @@ def positive_int(name: str, value, minimum: int = 1) -> int:
 
 def positive_float(name: str, value) -> float:
     """Return ``value`` as ``float`` if it is finite and strictly positive."""
-    if isinstance(value, (bool, np.bool_)):
+    if isinstance(value, (bool, np.bool_)) or np.asarray(value).dtype == bool:
         raise ValueError(f"{name} must be a positive number, got {value!r}")
     try:
         x = float(value)

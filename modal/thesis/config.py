@@ -1,11 +1,168 @@
-"""Checks of a workflow configuration that a JSON schema cannot express:
-cross references and sizes against the record. Each problem names its key."""
+"""Checks of a workflow configuration, run by the Snakefile before any job:
+the config files read strictly (duplicate keys refused), numbered keys
+normalised, the JSON schema with integers that are integers, then what a
+schema cannot express: cross references, sizes against the record, paths
+that must exist, a measured record opened and checked. Each problem names
+its key."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
+from pathlib import Path
+
+import numpy as np
+import yaml
 
 from .study import study_cases
+
+#: Top-level and grid mappings keyed by a thesis table or figure number.
+NUMBERED = (("tables",), ("shape_figures",), ("noise_figures",), ("grid", "tables"))
+#: Schema keywords whose failure on a fraction or ratio gets a hint on the intended value.
+FRACTION_KEYS = ("noise", "damping")
+
+
+class _StrictLoader(yaml.SafeLoader):
+    """YAML loader that refuses a key given twice in one mapping (the default
+    loaders silently keep the last)."""
+
+
+def _construct_mapping(loader, node, deep=False):
+    seen = {}
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in seen:
+            raise ValueError(f"key {key!r} given twice in one mapping (lines {seen[key] + 1} and "
+                             f"{key_node.start_mark.line + 1}); YAML would silently keep the last")
+        seen[key] = key_node.start_mark.line
+    return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
+
+
+_StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+
+
+def load_strict(path) -> dict:
+    """Read one YAML config file, refusing duplicate keys.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, the key and both lines.
+    """
+    try:
+        with open(path, encoding="utf-8") as fh:
+            return yaml.load(fh, Loader=_StrictLoader) or {}
+    except ValueError as exc:
+        raise ValueError(f"config file {path}: {exc}") from None
+
+
+def check_workflow_config(config: dict, configfiles, schema) -> None:
+    """Everything the Snakefile checks before any job, in order.
+
+    Parameters
+    ----------
+    config : dict
+        The merged config (modified in place: numbered keys become ints).
+    configfiles : sequence of path
+        The files it came from (``config/config.yaml`` and every
+        ``--configfile``): re-read with :func:`load_strict`.
+    schema : path
+        ``workflow/schemas/config.schema.yaml``.
+    """
+    for path in configfiles:
+        load_strict(path)
+    normalise_numbers(config)
+    validate(config, schema)
+    check(config)
+
+
+def normalise_numbers(config: dict) -> None:
+    """Key every table and figure mapping by ``int`` in place: ``1``, ``"1"``
+    and ``"01"`` are one table. An override keyed ``"01"`` is merged over
+    the entry keyed ``1`` it follows (Snakemake merged the files without
+    knowing they are the same number)."""
+    for path in NUMBERED:
+        parent = config
+        for key in path[:-1]:
+            parent = parent.get(key) if isinstance(parent, Mapping) else None
+        if not isinstance(parent, Mapping) or not isinstance(parent.get(path[-1]), Mapping):
+            continue
+        name = ".".join(path)
+        merged = {}
+        for key, value in parent[path[-1]].items():
+            number = _number_key(name, key)
+            if number in merged and isinstance(merged[number], Mapping) and isinstance(value, Mapping):
+                merged[number] = {**merged[number], **value}
+            else:
+                merged[number] = value
+        parent[path[-1]] = merged
+
+
+def _number_key(name, key) -> int:
+    if isinstance(key, bool) or not (isinstance(key, int) or (isinstance(key, str) and key.strip().isdigit())):
+        raise ValueError(f"invalid config:\n  {name}: key {key!r} is not a table or figure number")
+    return int(key)
+
+
+def _integer(checker, instance) -> bool:
+    """JSON-schema ``integer``: an int, not ``3.0`` and not ``True``."""
+    return isinstance(instance, int) and not isinstance(instance, bool)
+
+
+def validate(config: Mapping, schema) -> None:
+    """Validate ``config`` against the JSON schema at ``schema``, reporting
+    every violation with its dotted key (integers must be written as
+    integers: ``3.0`` is refused where a count or size is expected).
+
+    Raises
+    ------
+    ValueError
+        One line per violation, e.g. ``studies.demo.cases.c3.noise = 5: 5 is
+        greater than the maximum of 1 (a fraction: 5 % is 0.05)``.
+    """
+    import jsonschema
+
+    with open(schema, encoding="utf-8") as fh:
+        document = yaml.safe_load(fh)
+    base = jsonschema.validators.validator_for(document)
+    checker = base.TYPE_CHECKER.redefine("integer", _integer)
+    validator = jsonschema.validators.extend(base, type_checker=checker)(document)
+    problems = sorted(_describe(err) for err in validator.iter_errors(_jsonable(config)))
+    if problems:
+        raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+
+
+def _jsonable(node):
+    """Mapping keys as strings (JSON schema sees object keys as strings)."""
+    if isinstance(node, Mapping):
+        return {str(k): _jsonable(v) for k, v in node.items()}
+    if isinstance(node, list):
+        return [_jsonable(v) for v in node]
+    return node
+
+
+def _describe(err) -> str:
+    """One violation as ``dotted.key = value: message (hint)``."""
+    key = ".".join(str(p) for p in err.absolute_path) or "(top level)"
+    if err.validator == "additionalProperties":
+        extra = sorted(set(err.instance) - set(err.schema.get("properties", {})))
+        return f"{key}: unknown key(s) {extra}; allowed: {sorted(err.schema.get('properties', {}))}"
+    if err.validator == "required":
+        return f"{key}: {err.message}"
+    text = f"{key} = {err.instance!r}: {err.message}"
+    leaf = str(err.absolute_path[-1]) if err.absolute_path else ""
+    value = err.instance
+    if err.validator == "type" and "integer" in str(err.validator_value) and isinstance(value, float):
+        text += f" (write an integer: {int(value) if value.is_integer() else round(value)})"
+    elif (leaf in FRACTION_KEYS or _in_list_of(err, FRACTION_KEYS)) and isinstance(value, (int, float)) \
+            and not isinstance(value, bool) and 1 <= value <= 100:
+        text += f" (a fraction: {value:g} % is {value / 100:g})"
+    return text
+
+
+def _in_list_of(err, names) -> bool:
+    path = list(err.absolute_path)
+    return len(path) >= 2 and isinstance(path[-1], int) and str(path[-2]) in names
 
 
 def check(config: Mapping) -> None:
@@ -79,8 +236,11 @@ def check(config: Mapping) -> None:
                 problems.append(f"shape_figures.{number}.case = {fig['case']!r} is not a case of studies.demo")
             if fig["method"] not in studies["demo"]["methods"]:
                 problems.append(f"shape_figures.{number}.method = {fig['method']!r} is not run in studies.demo")
+    problems += path_problems(config) + case_problems(config)
     if "grid" in config:
         problems += grid_problems(config["grid"])
+        if not problems and config["grid"]["source"] == "measured":
+            problems += record_problems(config["grid"])
     if problems:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
 
@@ -105,6 +265,11 @@ def grid_problems(grid: Mapping) -> list[str]:
     chosen = len(grid["accelerometers"]) if grid.get("accelerometers") else grid["n_selected"]
     if grid["source"] == "virtual" and chosen > n_channels:
         problems.append(f"grid.n_selected = {chosen} exceeds the {n_channels} accelerometers of grid.test.sensors")
+    if grid["source"] == "virtual":
+        for i, c in enumerate(grid.get("accelerometers") or []):
+            if c >= n_channels:
+                problems.append(f"grid.accelerometers[{i}] = {c}: grid.test.sensors has {n_channels} "
+                                f"accelerometers (0..{n_channels - 1})")
     for case, cutoff in grid["cases"].items():
         if cutoff is not None and cutoff >= nyquist:
             problems.append(f"grid.cases.{case} = {cutoff} Hz must be below the Nyquist frequency {nyquist} Hz")
@@ -142,4 +307,104 @@ def grid_problems(grid: Mapping) -> list[str]:
         for label, run in table["runs"].items():
             if run not in grid["runs"]:
                 problems.append(f"{key}.runs.{label} = {run!r} is not one of grid.runs")
+    return problems
+
+
+def path_problems(config: Mapping) -> list[str]:
+    """Files the workflow reads that must exist before any job runs."""
+    problems = []
+    published = Path(config["published"])
+    if not published.is_file():
+        problems.append(f"published = {str(published)!r}: no such file (relative to {Path.cwd()})")
+    measured = (config.get("grid") or {}).get("measured") or {}
+    if config.get("grid", {}).get("source") == "measured" and measured.get("path"):
+        if not Path(measured["path"]).is_file():
+            problems.append(f"grid.measured.path = {measured['path']!r}: no such file (relative to {Path.cwd()})")
+    return problems
+
+
+#: "zeta = .05" / "eta = 5 %" in a table title, checked against the table's case.
+_TITLE_VALUES = {"damping": re.compile(r"zeta = (\d*\.?\d+)"), "noise": re.compile(r"eta = (\d*\.?\d+) %")}
+
+
+def case_problems(config: Mapping) -> list[str]:
+    """Case names that collide (a noise sweep names its cases ``eta_<eta:g>``,
+    so 0.03 and 0.030000001 would be one case), table titles that print a
+    damping or noise other than their case's, figure modes the beam lacks."""
+    problems = []
+    for name, study in config["studies"].items():
+        sweep = study.get("noise_sweep")
+        if not sweep:
+            continue
+        names = list(study.get("cases", {}))
+        for i, eta in enumerate(sweep["noise"]):
+            case = f"eta_{eta:g}"
+            if case in names:
+                problems.append(f"studies.{name}.noise_sweep.noise[{i}] = {eta!r} gives the case name {case!r} "
+                                "of another case: noise levels must differ in their first 6 significant digits")
+            names.append(case)
+    for number, table in config["tables"].items():
+        study = config["studies"].get(table["study"])
+        case = study_cases(study).get(table.get("case")) if study else None
+        if case is None:
+            continue
+        for what, pattern in _TITLE_VALUES.items():
+            found = pattern.search(table["title"])
+            if not found:
+                continue
+            printed = float(found.group(1)) / (100 if what == "noise" else 1)
+            if not np.isclose(printed, case[what], rtol=1e-9, atol=1e-12):
+                problems.append(f"tables.{number}.title says {found.group(0)!r} but studies.{table['study']}.cases."
+                                f"{table['case']}.{what} = {case[what]!r}: change the title or the case")
+    if "noise" in config["studies"]:
+        study = config["studies"]["noise"]
+        n_modes = config["beams"].get(study["beam"], {}).get("n_modes")
+        for number, mode in config["noise_figures"].items():
+            if n_modes is not None and mode > n_modes:
+                problems.append(f"noise_figures.{number} = {mode}: the noise study's beam {study['beam']} "
+                                f"has {n_modes} modes")
+    elif config["noise_figures"]:
+        problems.append("noise_figures needs studies.noise")
+    if config["shape_figures"] and "demo" not in config["studies"]:
+        problems.append("shape_figures needs studies.demo")
+    return problems
+
+
+def record_problems(grid: Mapping) -> list[str]:
+    """Open the measured record (:func:`modal.io.load_record`) and check it
+    against ``grid.test`` (n_samples, fs) and the channel choices, before any
+    job runs."""
+    from ..io import load_record
+
+    measured = grid["measured"]
+    key = "grid.measured.path"
+    try:
+        acc, dt = load_record(measured["path"], measured.get("fs"))
+    except ValueError as exc:
+        return [f"{key} = {measured['path']!r}: {exc}"]
+    problems = []
+    n_samples, n_channels = acc.shape
+    if n_samples < n_channels:
+        problems.append(f"{key}: {n_samples} samples of {n_channels} channels: a record has more samples than "
+                        "channels (transposed? rows are samples, columns channels)")
+    if str(measured["path"]).lower().endswith(".csv") and measured.get("fs") is not None and n_channels > 1:
+        first = acc[:, 0]
+        steps = np.diff(first)
+        if np.all(steps > 0) and np.allclose(steps, 1 / measured["fs"], rtol=1e-6):
+            problems.append(f"grid.measured.fs = {measured['fs']}: the first column of {measured['path']} is a "
+                            "time axis at that rate; with fs given every column is a channel (drop fs, or the "
+                            "time column)")
+    channels = measured.get("channels")
+    for i, c in enumerate(channels or []):
+        if c >= n_channels:
+            problems.append(f"grid.measured.channels[{i}] = {c}: the record has {n_channels} channels (0..{n_channels - 1})")
+    used = len(channels) if channels else n_channels
+    for i, c in enumerate(grid.get("accelerometers") or []):
+        if c >= used:
+            problems.append(f"grid.accelerometers[{i}] = {c}: only {used} channels are read (0..{used - 1})")
+    if n_samples != grid["test"]["n_samples"]:
+        problems.append(f"grid.test.n_samples = {grid['test']['n_samples']} but {measured['path']} holds "
+                        f"{n_samples} samples")
+    if not np.isclose(1 / dt, grid["test"]["fs"], rtol=1e-6):
+        problems.append(f"grid.test.fs = {grid['test']['fs']} Hz but {measured['path']} is sampled at {1 / dt:g} Hz")
     return problems

@@ -24,13 +24,21 @@ GRID_CODE = code(
     "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
 )
 TABLE_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/tables.py", "modal/thesis/report.py"
+    "modal/thesis/__init__.py",
+    "modal/thesis/tables.py",
+    "modal/thesis/report.py",
+    "modal/thesis/intermediates.py",
 )
-GRID_TABLE_CODE = code("modal/grid.py") + GRID_CODE + code("modal/thesis/report.py")
+GRID_TABLE_CODE = (
+    code("modal/grid.py")
+    + GRID_CODE
+    + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
+)
 PLOT_CODE = code(
     "modal/thesis/__init__.py",
     "modal/thesis/plots.py",
     "modal/thesis/tables.py",
+    "modal/thesis/intermediates.py",
     "modal/indicators.py",
     "modal/structures.py",
     "modal/signals.py",
@@ -119,19 +127,6 @@ def tables_of(*studies):
     return [n for n in table_numbers() if study_of_table(n) in studies]
 
 
-def noisy_tables():
-    """Beam tables whose case adds sensor noise (identified over many seeds)."""
-    out = []
-    for n in table_numbers():
-        spec = table_spec(n)
-        case = (
-            config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
-        )
-        if case.get("noise", 0) > 0:
-            out.append(n)
-    return out
-
-
 # --- the grid chapter (grid.smk): numbers from config ----------------------------
 def grid_tables():
     return sorted(int(n) for n in config.get("grid", {}).get("tables", {}))
@@ -211,10 +206,11 @@ def chapter_outputs(name):
             + figure_files(numbers(config["shape_figures"]))
         )
     if name == "02_noise_study":
+        # it reads every table the summary lists to find the noisy ones (grid too)
         return (
             figure_files(numbers(config["noise_figures"]))
-            + table_files(noisy_tables())
-            + note_files(noisy_tables())
+            + table_files(all_tables())
+            + note_files(all_tables())
             + identified("noise")
         )
     if name == "03_spillover":

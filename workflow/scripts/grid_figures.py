@@ -1,9 +1,9 @@
 """Grid figures (thesis Figures 12-21, numbers from grid.figures): the grid,
 the raw and the filtered responses of the chosen accelerometers."""
 import numpy as np
-import pandas as pd
 
 import modal.thesis.grid_study as gs
+import modal.thesis.intermediates
 import modal.thesis.plots as plots
 from _helpers import mock_snakemake, redirect_log
 
@@ -15,7 +15,7 @@ spec, captions = snakemake.params.spec, snakemake.params.captions
 numbers = spec["figures"]
 paths = dict(zip([numbers["layout"], *numbers["responses"], *numbers["filtered"]], snakemake.output))
 rec = np.load(snakemake.input.record)
-selection = pd.read_csv(snakemake.input.selection)
+selection = modal.thesis.intermediates.read_selection(snakemake.input.selection, spec)
 chosen = selection[selection["seed"] == selection["seed"].min()].sort_values("rank")["channel"].to_numpy()
 acc, dt = rec["acceleration"][:, chosen], float(rec["dt"])
 

@@ -1,7 +1,6 @@
 """One grid table: published beside reproduced -> table_NN.csv, .md and notes."""
-import pandas as pd
-
 import modal.thesis.grid_study as gs
+import modal.thesis.intermediates
 import modal.thesis.report
 import modal.thesis.tables
 from _helpers import mock_snakemake, redirect_log
@@ -13,8 +12,8 @@ redirect_log(snakemake)
 number = int(snakemake.wildcards.number)
 spec = snakemake.params.spec
 published = modal.thesis.tables.read_published(snakemake.input.published)
-identified = pd.read_csv(snakemake.input.identified)
-selection = pd.read_csv(snakemake.input.selection)
+identified = modal.thesis.intermediates.read_grid_identified(snakemake.input.identified, spec)
+selection = modal.thesis.intermediates.read_selection(snakemake.input.selection, spec)
 table = gs.grid_table(number, published[published["table"] == number], identified, selection, spec,
                       snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)

@@ -1,6 +1,5 @@
 """Noise figures (thesis Figures 9-11): identified frequency against signal-to-noise ratio."""
-import pandas as pd
-
+import modal.thesis.intermediates
 import modal.thesis.plots
 from _helpers import mock_snakemake, redirect_log
 
@@ -8,7 +7,9 @@ if "snakemake" not in globals():
     snakemake = mock_snakemake("noise_figures")
 redirect_log(snakemake)
 
-identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+identified = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["noise"],
+                                                            snakemake.config["seeds"])
+              for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 for path, (number, mode) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
     title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
     modal.thesis.plots.noise_figure(identified, mode, title).savefig(path, dpi=120)

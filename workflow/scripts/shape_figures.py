@@ -1,6 +1,5 @@
 """Mode-shape figures (thesis Figures 1-8): identified mode shapes against the exact ones."""
-import pandas as pd
-
+import modal.thesis.intermediates
 import modal.thesis.plots
 from _helpers import mock_snakemake, redirect_log
 
@@ -8,7 +7,9 @@ if "snakemake" not in globals():
     snakemake = mock_snakemake("shape_figures")
 redirect_log(snakemake)
 
-identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+identified = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["demo"],
+                                                            snakemake.config["seeds"])
+              for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 for path, (number, fig) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
     title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
     modal.thesis.plots.shape_figure(snakemake.params.beam, identified, fig["case"], fig["method"],

@@ -1,6 +1,5 @@
 """One thesis table: published beside reproduced -> table_NN.csv, .md and notes."""
-import pandas as pd
-
+import modal.thesis.intermediates
 import modal.thesis.report
 import modal.thesis.tables
 from _helpers import mock_snakemake, redirect_log
@@ -11,7 +10,9 @@ redirect_log(snakemake)
 
 number = int(snakemake.wildcards.number)
 published = modal.thesis.tables.read_published(snakemake.input.published)
-identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+study = snakemake.config["studies"][snakemake.params.spec["study"]]
+identified = {i: modal.thesis.intermediates.read_identified(f, study, snakemake.config["seeds"])
+              for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 table = modal.thesis.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
                                     snakemake.params.methods, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
