@@ -320,6 +320,31 @@ def path_problems(config: Mapping) -> list[str]:
     if config.get("grid", {}).get("source") == "measured" and measured.get("path"):
         if not Path(measured["path"]).is_file():
             problems.append(f"grid.measured.path = {measured['path']!r}: no such file (relative to {Path.cwd()})")
+    for name, spec in (config.get("measured") or {}).items():
+        problems += measured_problems(f"measured.{name}", spec)
+    return problems
+
+
+def measured_problems(key: str, spec: Mapping) -> list[str]:
+    """Open one record of the ``measured`` list (:func:`modal.io.read_record`)
+    and check its channel and reference choices, before any job runs."""
+    from ..io import read_record
+
+    if not Path(spec["path"]).is_file():
+        return [f"{key}.path = {spec['path']!r}: no such file (relative to {Path.cwd()})"]
+    try:
+        record = read_record(spec["path"], spec.get("fs"))
+    except ValueError as exc:
+        return [f"{key}.path = {spec['path']!r}: {exc}"]
+    problems = []
+    n_channels = record.acc.shape[1]
+    channels = spec.get("channels") or list(range(n_channels))
+    for i, c in enumerate(spec.get("channels") or []):
+        if c >= n_channels:
+            problems.append(f"{key}.channels[{i}] = {c}: the record has {n_channels} channels (0..{n_channels - 1})")
+    for i, r in enumerate(spec.get("refs") or []):
+        if r >= len(channels):
+            problems.append(f"{key}.refs[{i}] = {r}: only {len(channels)} channels are used (0..{len(channels) - 1})")
     return problems
 
 
@@ -387,13 +412,6 @@ def record_problems(grid: Mapping) -> list[str]:
     if n_samples < n_channels:
         problems.append(f"{key}: {n_samples} samples of {n_channels} channels: a record has more samples than "
                         "channels (transposed? rows are samples, columns channels)")
-    if str(measured["path"]).lower().endswith(".csv") and measured.get("fs") is not None and n_channels > 1:
-        first = acc[:, 0]
-        steps = np.diff(first)
-        if np.all(steps > 0) and np.allclose(steps, 1 / measured["fs"], rtol=1e-6):
-            problems.append(f"grid.measured.fs = {measured['fs']}: the first column of {measured['path']} is a "
-                            "time axis at that rate; with fs given every column is a channel (drop fs, or the "
-                            "time column)")
     channels = measured.get("channels")
     for i, c in enumerate(channels or []):
         if c >= n_channels:

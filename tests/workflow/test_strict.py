@@ -104,6 +104,12 @@ BAD = [
     ("shape_figures.1.method", "cera", ["shape_figures.1.method = 'cera'"]),
     ("grid.source", "measured", ["grid.measured.path is required"]),
     ("grid.tables.x", {"title": "t", "case": "raw", "runs": {}}, ["grid.tables: key 'x' is not a table or figure number"]),
+    # the measured records list: opened and checked before any job
+    ("measured.palisaden.path", "tests/data/missing.npy", ["measured.palisaden.path = 'tests/data/missing.npy': no such"]),
+    ("measured.palisaden.channels", [0, 9], ["measured.palisaden.channels[1] = 9: the record has 6 channels"]),
+    ("measured.palisaden.refs", [1, 7], ["measured.palisaden.refs[1] = 7: only 6 channels are used"]),
+    ("measured.palisaden.excitation", "impact", ["measured.palisaden.excitation = 'impact'"]),
+    ("measured.palisaden.max_order", 61, ["measured.palisaden.max_order = 61"]),
 ]
 
 
@@ -185,11 +191,19 @@ def _csv_with_time(path, acc, fs):
     np.savetxt(path, np.column_stack([t, acc]), delimiter=",")
 
 
+def test_time_column_with_fs_is_dropped_not_a_channel(tmp_path):
+    # fs given with a time column: the time column is dropped (modal.io), so the
+    # record has its 6 channels and passes; the sensors' count would be off otherwise
+    _csv_with_time(tmp_path / "r.csv", _acc(), 200.0)
+    config = measured_config(tmp_path, tmp_path / "r.csv", fs=200.0, channels=[0, 5])
+    mc.normalise_numbers(config), mc.validate(config, SCHEMA), mc.check(config)
+    refused(measured_config(tmp_path, tmp_path / "r.csv", fs=200.0, channels=[0, 6]),
+            "grid.measured.channels[1] = 6: the record has 6 channels")
+
+
 BAD_RECORDS = [
     ("npz dt=True", lambda p: np.savez(p / "r.npz", acc=_acc(), dt=True), "r.npz", {}, "dt"),
     ("transposed", lambda p: np.savez(p / "r.npz", acc=_acc().T, fs=200.0), "r.npz", {}, "transposed"),
-    ("time column with fs", lambda p: _csv_with_time(p / "r.csv", _acc(), 200.0), "r.csv", {"fs": 200.0},
-     "grid.measured.fs = 200.0: the first column"),
     ("missing file", lambda p: None, "none.npz", {}, "grid.measured.path"),
     ("channel out of range", lambda p: np.savez(p / "r.npz", acc=_acc(), fs=200.0), "r.npz",
      {"channels": [0, 6]}, "grid.measured.channels[1] = 6"),
