@@ -13,8 +13,6 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 PYTHON="${PYTHON:-python3}"
 MIN_PYTHON=3.11  # Snakemake 8 needs it; lock.sh resolves for it and newer
-# uv's cache and .venv may sit on different file systems: copy, without a warning.
-export UV_LINK_MODE="${UV_LINK_MODE:-copy}"
 
 setup_say() { echo "setup: $*" >&2; }
 
@@ -50,9 +48,14 @@ if [ -n "${EXTRA:-}" ]; then
     fi
     STAMP=.venv/.setup-stamp
     # Every extra installed so far (first line of the stamp) and this one.
-    SETUP_EXTRAS="$( { echo "$EXTRA"; head -n1 "$STAMP" 2>/dev/null | tr ' ' '\n'; } \
-        | while read -r e; do [ -n "$e" ] && [ -f "requirements/$e.txt" ] && echo "$e"; done \
-        | sort -u | tr '\n' ' ')"
+    SETUP_EXTRAS="$EXTRA"
+    if [ -f "$STAMP" ]; then
+        for e in $(head -n1 "$STAMP"); do
+            if [ -f "requirements/$e.txt" ]; then SETUP_EXTRAS+=" $e"; fi
+        done
+    fi
+    # shellcheck disable=SC2086,SC2046  # one word per extra
+    SETUP_EXTRAS="$(echo $(printf '%s\n' $SETUP_EXTRAS | sort -u))"
     SETUP_LOCKS=(requirements/tools.txt)
     for e in $SETUP_EXTRAS; do SETUP_LOCKS+=("requirements/$e.txt"); done
     SETUP_WANT="$(printf '%s\n%s' "$SETUP_EXTRAS" \
