@@ -83,12 +83,13 @@ def problems(extra: str, pyproject: dict | None = None) -> list[str]:
     """
     if pyproject is None:
         pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    wanted = project_requirements(pyproject, extra)
     lock = LOCK_DIR / f"{extra}.txt"
     if not lock.is_file():
         return [f"{lock.relative_to(ROOT)} is missing"]
     pins = read_lock(lock)
     found = []
-    for req in project_requirements(pyproject, extra):
+    for req in wanted:
         if req.marker is not None and not req.marker.evaluate({"extra": extra}):
             continue
         here = [p for p in pins.get(canonicalize_name(req.name), [])
