@@ -102,7 +102,7 @@ def constant_channels(name: str, a: np.ndarray) -> None:
         k, c = np.argwhere(flat)[0]
         where = f"channel {c}" + (f" of data set {k}" if sets.shape[0] > 1 else "")
         raise ValueError(
-            f"{name}: {where} is constant ({sets[k, 0, c]!r}); a constant or all-zero channel "
+            f"{name}: {where} is constant ({float(sets[k, 0, c])!r}); a constant or all-zero channel "
             "carries no vibration: remove it (a dead sensor, or a sensor at a node of every mode)"
         )
 
