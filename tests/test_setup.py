@@ -8,7 +8,9 @@ import tomllib
 import pytest
 from packaging.utils import canonicalize_name
 
-from conftest import ROOT
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
 
 sys.path.insert(0, str(ROOT / "workflow"))
 import lock_check  # noqa: E402
