@@ -3,11 +3,11 @@ import pandas as pd
 
 import modal.thesis.plots
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("cera_sensitivity")
-redirect_log(snakemake)
+start_job(snakemake)
 
 frames = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)

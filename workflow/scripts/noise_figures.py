@@ -2,11 +2,11 @@
 import pandas as pd
 
 import modal.thesis.plots
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("noise_figures")
-redirect_log(snakemake)
+start_job(snakemake)
 
 identified = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 for path, (number, mode) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
