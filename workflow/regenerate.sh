@@ -5,4 +5,4 @@
 set -euo pipefail
 EXTRA=workflow
 source "$(dirname "${BASH_SOURCE[0]}")/setup.sh"
-snakemake --cores "${CORES:-all}" --rerun-incomplete "$@"
+snakemake --workflow-profile workflow/profiles/default --cores "${CORES:-all}" "$@"

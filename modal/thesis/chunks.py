@@ -23,7 +23,8 @@ def seed_chunks(seeds: Mapping) -> list[range]:
     [range(10, 12), range(12, 14), range(14, 15)]
     """
     first, count = seeds["first"], seeds["count"]
-    size = seeds.get("chunk") or count
+    size = seeds.get("chunk")
+    size = count if size is None else size
     for key, value, low in (("first", first, 0), ("count", count, 1), ("chunk", size, 1)):
         if not isinstance(value, int) or isinstance(value, bool) or value < low:
             raise ValueError(f"seeds.{key} must be an integer >= {low}, got {value!r}")

@@ -59,6 +59,10 @@ rule table:
         res("logs/table_{number}.log"),
     wildcard_constraints:
         number=beam_table_pattern(),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         spec=lambda w: table_spec(int(w.number)),
         methods=lambda w: config["studies"][table_spec(int(w.number))["study"]][
@@ -85,6 +89,10 @@ rule shape_figures:
         ),
     log:
         res("logs/shape_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         figures=config["shape_figures"],
         captions=FIGURE_CAPTIONS,
@@ -108,6 +116,10 @@ rule noise_figures:
         ),
     log:
         res("logs/noise_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         figures=config["noise_figures"],
         captions=FIGURE_CAPTIONS,
@@ -130,6 +142,10 @@ rule cera_sensitivity:
         ),
     log:
         res("logs/cera_sensitivity.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         interpretations=config["studies"]["cera"]["interpretations"],
         first_seed=config["seeds"]["first"],

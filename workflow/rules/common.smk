@@ -6,7 +6,6 @@ from pathlib import Path
 
 from modal.thesis.chunks import seed_chunks
 
-
 # --- the run: where results go ---------------------------------------------------
 # `run: default` (config/config.yaml) writes the committed results/; any other
 # name (`--config run=<name>` or `run:` in a layered config) writes everything,
@@ -112,7 +111,9 @@ def identify_runtime(study):
     """Minutes to ask a cluster for one identify job: 1 s per seed and case
     (measured: about 0.1 s), at least 10 minutes."""
     spec = config["studies"][study]
-    n_cases = len(spec.get("cases", {})) + len((spec.get("noise_sweep") or {}).get("noise", []))
+    n_cases = len(spec.get("cases", {})) + len(
+        (spec.get("noise_sweep") or {}).get("noise", [])
+    )
     seeds = config["seeds"]
     return max(10, n_cases * (seeds.get("chunk") or seeds["count"]) // 60)
 

@@ -67,6 +67,10 @@ rule grid_table:
         res("logs/table_{number}.log"),
     wildcard_constraints:
         number=grid_table_pattern(),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         spec=config.get("grid"),
         first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
@@ -88,6 +92,10 @@ rule grid_figures:
         ),
     log:
         res("logs/grid_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         spec=config.get("grid"),
         captions=FIGURE_CAPTIONS,

@@ -12,6 +12,10 @@ rule summary:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:
         res("logs/summary.log"),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         titles=TABLE_TITLES,
     script:
@@ -33,6 +37,10 @@ rule notebook:
         text=res("logs/notebook_{name}.log"),
     wildcard_constraints:
         name="|".join(NOTEBOOKS),
+    threads: 1
+    resources:
+        mem_mb=800,
+        runtime=10,
     params:
         parameters=lambda w: notebook_parameters(w.name),
     script:
@@ -47,11 +55,13 @@ rule report_html:
         summary=SUMMARY,
         outputs=report_inputs(),
     output:
-        report(
-            res("report.html"), caption="../report/report.rst", category="Summary"
-        ),
+        report(res("report.html"), caption="../report/report.rst", category="Summary"),
     log:
         res("logs/report_html.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
