@@ -34,11 +34,14 @@ rule merge_identified:
         chunks=lambda w: identified_chunks(w.study, w.interpretation),
     output:
         res("identified/{study}_{interpretation}.csv"),
+    log:
+        res("logs/merge_identified_{study}_{interpretation}.log"),
     localrule: True
     run:
         from modal.thesis.chunks import merge_chunks
 
         merge_chunks(input.chunks, output[0], group_by="case")
+        Path(log[0]).write_text(f"merged {len(input.chunks)} chunks\n")
 
 
 rule table:

@@ -38,6 +38,8 @@ rule grid_merge:
         identified=res("grid/identified.csv"),
         selection=res("grid/selection.csv"),
         record=res("grid/record_first_seed.npz"),
+    log:
+        res("logs/grid_merge.log"),
     localrule: True
     run:
         import shutil
@@ -46,6 +48,7 @@ rule grid_merge:
         merge_chunks(input.identified, output.identified)
         merge_chunks(input.selection, output.selection)
         shutil.copyfile(input.record, output.record)
+        Path(log[0]).write_text(f"merged {len(input.identified)} chunks\n")
 
 
 rule grid_table:
