@@ -62,3 +62,14 @@ def merge_chunks(paths: Sequence, out, group_by: str | None = None) -> None:
             raise ValueError(f"paths: {group_by} {sorted(missing)} missing from the first chunk {paths[0]}")
         merged = merged.iloc[merged[group_by].map(order).argsort(kind="stable")]
     merged.to_csv(out, index=False)
+
+
+def merge_grid_chunks(identified: Sequence, selection: Sequence, first_record, out: Mapping) -> None:
+    """The grid's chunks -> ``out["identified"]``, ``out["selection"]`` (seed-major,
+    as :func:`modal.thesis.grid_study.run_grid_study` writes them) and
+    ``out["record"]``, a copy of the first chunk's first record."""
+    import shutil
+
+    merge_chunks(identified, out["identified"])
+    merge_chunks(selection, out["selection"])
+    shutil.copyfile(first_record, out["record"])

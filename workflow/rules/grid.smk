@@ -42,12 +42,9 @@ rule grid_merge:
         res("logs/grid_merge.log"),
     localrule: True
     run:
-        import shutil
-        from modal.thesis.chunks import merge_chunks
+        from modal.thesis.chunks import merge_grid_chunks
 
-        merge_chunks(input.identified, output.identified)
-        merge_chunks(input.selection, output.selection)
-        shutil.copyfile(input.record, output.record)
+        merge_grid_chunks(input.identified, input.selection, input.record, output)
         Path(log[0]).write_text(f"merged {len(input.identified)} chunks\n")
 
 
