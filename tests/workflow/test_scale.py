@@ -75,14 +75,14 @@ def _count_jobs(workdir, *args):
 
 
 def test_identify_jobs_grow_with_the_seeds(tmp_path):
-    """Default config: 50 seeds in chunks of 25; 200 seeds -> four times the
-    noisy studies' jobs (demo, noise, cera: 3 studies x 2 interpretations;
-    spillover is noise-free: one job per interpretation)."""
+    """Default config: 50 seeds in one chunk of 50; 200 seeds in chunks of 25
+    -> eight jobs per noisy study (demo, noise, cera) and interpretation;
+    spillover is noise-free: one job per interpretation."""
     work = copy_project(tmp_path)
     (work / "more.yaml").write_text(yaml.safe_dump({"seeds": {"first": 0, "count": 200, "chunk": 25},
                                                     "grid": {"seeds": {"first": 0, "count": 10, "chunk": 3}}}))
     default, more = _count_jobs(work), _count_jobs(work, "--configfile", "more.yaml")
-    assert (default["identify"], default["grid_identify"]) == (3 * 2 * 2 + 2, 2)
+    assert (default["identify"], default["grid_identify"]) == (3 * 2 * 1 + 2, 2)
     assert (more["identify"], more["grid_identify"]) == (3 * 2 * 8 + 2, 4)
     assert default["merge_identified"] == more["merge_identified"] == 8
 
@@ -133,8 +133,7 @@ def test_chunked_run_as_separate_processes_equals_the_local_run(small_workflow, 
     (profile / "config.yaml").write_text(yaml.safe_dump({
         "executor": "cluster-generic", "cluster-generic-submit-cmd": "bash local_submit.sh", "jobs": 2,
         "latency-wait": 5}))
-    run_snakemake(work, "--workflow-profile", "profile", "--configfile", SMALL_CONFIG_FILE, "chunks.yaml",
-                  *TARGETS)
+    run_snakemake(work, *TARGETS, "--workflow-profile", "profile", "--configfile", SMALL_CONFIG_FILE, "chunks.yaml")
     assert sorted(p.name for p in (work / "results/identified/chunks").glob("demo_lower_*.csv")) == [
         "demo_lower_0.csv", "demo_lower_1.csv", "demo_lower_2.csv"]
     submitted = list((work / "cluster_logs").iterdir())
@@ -149,7 +148,7 @@ def test_named_run_never_touches_the_committed_tables(tmp_path):
     shutil.copytree(ROOT / "results/tables", work / "results/tables")
     before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (work / "results/tables").iterdir()}
     (work / "study.yaml").write_text(yaml.safe_dump({"run": "two_seeds", "seeds": {"first": 0, "count": 2}}))
-    run_snakemake(work, "--configfile", "study.yaml", "results/runs/two_seeds/tables/table_04.csv")
+    run_snakemake(work, "results/runs/two_seeds/tables/table_04.csv", "--configfile", "study.yaml")
     after = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (work / "results/tables").iterdir()}
     assert after == before
     table = (work / "results/runs/two_seeds/tables/table_04.csv").read_text()
