@@ -164,3 +164,16 @@ def test_named_run_never_touches_the_committed_tables(tmp_path):
 def test_report_names_its_run(small_workflow):
     html = (small_workflow / "results/report.html").read_text(encoding="utf-8")
     assert "Run: default (results/)" in html
+
+
+@pytest.mark.parametrize("key, value", [("seeds", {"first": 0, "count": 4, "chunk": 0}),
+                                        ("seeds", {"first": 0, "count": 4, "chunk": 2.5}),
+                                        ("grid", {"seeds": {"first": 0, "count": 4, "chunk": -1}}),
+                                        ("run", "../elsewhere"), ("run", "")])
+def test_schema_rejects_bad_chunks_and_run_names(key, value):
+    from snakemake.utils import validate
+
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    config[key] = {**config[key], **value} if isinstance(value, dict) else value
+    with pytest.raises(Exception, match="chunk|run|does not match"):
+        validate(config, str(ROOT / "workflow/schemas/config.schema.yaml"))
