@@ -63,8 +63,10 @@ def noise_study(config, chunk, cores, full):
         (tmp / "seeds.yaml").write_text(yaml.safe_dump(study))
         targets = [f"results/runs/bench_seeds/identified/noise_{i}.csv" for i in interpretations]
         t0 = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), "--quiet", "all",
-                        "--configfile", "seeds.yaml", *targets], cwd=tmp, check=True, capture_output=True)
+        proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), "--quiet", "all",
+                               *targets, "--configfile", "seeds.yaml"], cwd=tmp, capture_output=True, text=True)
+        if proc.returncode:
+            sys.exit(proc.stderr[-3000:])
         elapsed = time.perf_counter() - t0
     n_ids = 10_000 * levels * len(interpretations) * len(config["studies"]["noise"]["methods"])
     jobs = -(-10_000 // chunk) * len(interpretations)

@@ -5,6 +5,7 @@ import yaml
 from pathlib import Path
 
 from modal.thesis.chunks import seed_chunks
+from modal.thesis.study import study_cases
 
 # --- the run: where results go ---------------------------------------------------
 # `run: default` (config/config.yaml) writes the committed results/; any other
@@ -94,11 +95,7 @@ def identified(study):
 # --- Monte Carlo seeds in chunks: one identification job per chunk ----------------
 def is_noisy(study):
     """Whether a study has a noisy case (identified once per seed)."""
-    spec = config["studies"][study]
-    sweep = spec.get("noise_sweep") or {"noise": []}
-    return any(c["noise"] > 0 for c in spec.get("cases", {}).values()) or any(
-        eta > 0 for eta in sweep["noise"]
-    )
+    return any(c["noise"] > 0 for c in study_cases(config["studies"][study]).values())
 
 
 def study_chunks(study):
@@ -109,11 +106,8 @@ def study_chunks(study):
 
 def identify_runtime(study):
     """Minutes to ask a cluster for one identify job: 1 s per seed and case
-    (measured: about 0.1 s), at least 10 minutes."""
-    spec = config["studies"][study]
-    n_cases = len(spec.get("cases", {})) + len(
-        (spec.get("noise_sweep") or {}).get("noise", [])
-    )
+    (measured: 0.01-0.1 s), at least 10 minutes."""
+    n_cases = len(study_cases(config["studies"][study]))
     seeds = config["seeds"]
     return max(10, n_cases * (seeds.get("chunk") or seeds["count"]) // 60)
 
