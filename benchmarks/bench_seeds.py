@@ -63,8 +63,8 @@ def noise_study(config, chunk, cores, full):
         (tmp / "seeds.yaml").write_text(yaml.safe_dump(study))
         targets = [f"results/runs/bench_seeds/identified/noise_{i}.csv" for i in interpretations]
         t0 = time.perf_counter()
-        proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), "--quiet", "all",
-                               *targets, "--configfile", "seeds.yaml"], cwd=tmp, capture_output=True, text=True)
+        proc = subprocess.run([sys.executable, "-m", "snakemake", *targets, "--cores", str(cores),
+                               "--configfile", "seeds.yaml"], cwd=tmp, capture_output=True, text=True)
         if proc.returncode:
             sys.exit(proc.stderr[-3000:])
         elapsed = time.perf_counter() - t0
