@@ -17,4 +17,4 @@ if command -v flock >/dev/null && ! flock -n 9; then
     exit 3
 fi
 python workflow/stale_locks.py "$ROOT"
-snakemake --cores "${CORES:-all}" --rerun-incomplete "$@"
+snakemake --workflow-profile workflow/profiles/default --cores "${CORES:-all}" "$@"

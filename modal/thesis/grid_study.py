@@ -17,6 +17,7 @@ from ..grid import THESIS_ESTIMATES_HZ, Grid
 from ..io import load_record
 from ..result import FLAGS
 from ..signals import lowpass_fft, split_record
+from .chunks import chunk_seeds
 from .study import flags_recorded
 from .tables import aggregate, decimals, inclusion_holds, match_to_reference
 from ..tcm import tcm
@@ -41,15 +42,19 @@ def grid_model(spec: Mapping) -> Grid:
     return Grid(**spec["model"])
 
 
-def grid_records(spec: Mapping) -> dict[int, GridRecord]:
+def grid_records(spec: Mapping, chunk: int | None = None) -> dict[int, GridRecord]:
     """Records of the grid chapter, keyed by seed.
 
     ``spec["source"] == "virtual"``: one virtual shaking test per seed
     ``seeds.first ...`` (force burst and sensor noise from that seed,
-    :func:`modal.experiment.shake_test`). ``"measured"``: the single record
-    at ``spec["measured"]["path"]`` (:func:`modal.io.load_record`), seed 0.
+    :func:`modal.experiment.shake_test`), or per seed of chunk number
+    ``chunk`` (:func:`modal.thesis.chunks.seed_chunks`). ``"measured"``: the
+    single record at ``spec["measured"]["path"]`` (:func:`modal.io.load_record`),
+    seed 0, in chunk 0.
     """
     if spec["source"] == "measured":
+        if chunk not in (None, 0):
+            raise ValueError(f"chunk: a measured grid record has only chunk 0, got {chunk}")
         m = spec["measured"]
         acc, dt = load_record(m["path"], m.get("fs"))
         if m.get("channels") is not None:
@@ -61,9 +66,8 @@ def grid_records(spec: Mapping) -> dict[int, GridRecord]:
         return {0: GridRecord(acc, dt, np.full(4, np.nan), np.arange(acc.shape[1]))}
     grid = grid_model(spec)
     test = dict(spec["test"])
-    seeds = spec["seeds"]
     out = {}
-    for seed in range(seeds["first"], seeds["first"] + seeds["count"]):
+    for seed in chunk_seeds(spec["seeds"], chunk):
         shaken = shake_test(grid, **{**test, "seed": seed})
         out[seed] = GridRecord(shaken.acceleration, shaken.dt, shaken.freq_hz, shaken.nodes)
     return out

@@ -20,6 +20,7 @@ from ..result import ModalWarning
 from ..simulate import Record, beam_impulse_response, with_noise
 from ..structures import SimplySupportedBeam
 from ..tcm import tcm
+from .chunks import chunk_seeds
 
 SIGNAL_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -109,12 +110,18 @@ def _frame(result, **labels) -> pd.DataFrame:
     return frame
 
 
-def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds: Mapping) -> pd.DataFrame:
-    """Every identification of one study under one interpretation.
+def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds: Mapping,
+              chunk: int | None = None) -> pd.DataFrame:
+    """Every identification of one study under one interpretation, or of one
+    chunk of its seeds.
 
     For each case, the noise-free record is simulated once; a noise-free case
     is identified once (``seed = -1``), a noisy one once per seed
-    ``seeds["first"] ... seeds["first"] + seeds["count"] - 1``. ``n_identified``
+    ``seeds["first"] ... seeds["first"] + seeds["count"] - 1``. With
+    ``chunk`` (0-based, see :func:`modal.thesis.chunks.seed_chunks`) only that
+    chunk's seeds are run, and the noise-free cases only in chunk 0;
+    :func:`modal.thesis.chunks.merge_chunks` with ``group_by="case"`` gives
+    back the unsplit result. ``n_identified``
     (spillover, Sec. 6.3) repeats each method with n = 3, 4, ...: the TCM on
     the first n sensors, ERA and CERA with ``n_modes = n``. ``cols_sweep``
     repeats the CERA over Hankel widths s.
@@ -129,9 +136,14 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
         number of modes in the response.
     """
     frames = []
+    noisy_seeds = chunk_seeds(seeds, chunk)
+    if chunk not in (None, 0) and all(c["noise"] == 0 for c in study_cases(study).values()):
+        raise ValueError(f"chunk: a study without noise has only chunk 0, got {chunk}")
     for case, params in study_cases(study).items():
+        if params["noise"] == 0 and chunk not in (None, 0):
+            continue
         record = beam_record(beam_spec, params["damping"])
-        seed_list = [-1] if params["noise"] == 0 else range(seeds["first"], seeds["first"] + seeds["count"])
+        seed_list = [-1] if params["noise"] == 0 else noisy_seeds
         for seed in seed_list:
             noisy = record if seed < 0 else with_noise(record, params["noise"], seed)
             for method, settings in study["methods"].items():

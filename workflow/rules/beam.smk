@@ -1,24 +1,47 @@
 # Chapter 6: simulated beams. Simulation, noise seeds and identification run in
-# one job per study x interpretation (each job pays 2-4 s of imports; a single
-# identification takes milliseconds).
+# one job per study x interpretation x chunk of `seeds.chunk` seeds (each job
+# pays 1-3 s of imports; a single identification takes milliseconds), so more
+# seeds mean more jobs; merge_identified joins the chunks in the order of an
+# unsplit run, byte for byte.
 
 
 rule identify:
     input:
         code=ENGINE + STUDY_CODE,
     output:
-        "results/identified/{study}_{interpretation}.csv",
+        res("identified/chunks/{study}_{interpretation}_{chunk}.csv"),
     log:
-        "results/logs/identify_{study}_{interpretation}.log",
+        res("logs/identify_{study}_{interpretation}_{chunk}.log"),
     benchmark:
-        "results/benchmarks/identify_{study}_{interpretation}.tsv"
+        res("benchmarks/identify_{study}_{interpretation}_{chunk}.tsv")
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=lambda w: identify_runtime(w.study),
     params:
         study=lambda w: config["studies"][w.study],
         beam=lambda w: config["beams"][config["studies"][w.study]["beam"]],
         signals=lambda w: config["interpretations"][w.interpretation],
         seeds=config["seeds"],
+        chunk=lambda w: int(w.chunk),
     script:
         "../scripts/identify.py"
+
+
+rule merge_identified:
+    input:
+        code=CHUNK_CODE,
+        chunks=lambda w: identified_chunks(w.study, w.interpretation),
+    output:
+        res("identified/{study}_{interpretation}.csv"),
+    log:
+        res("logs/merge_identified_{study}_{interpretation}.log"),
+    localrule: True
+    run:
+        from modal.thesis.chunks import merge_chunks
+
+        merge_chunks(input.chunks, output[0], group_by="case")
+        Path(log[0]).write_text(f"merged {len(input.chunks)} chunks\n")
 
 
 rule table:
@@ -28,17 +51,21 @@ rule table:
         identified=lambda w: identified(table_spec(w.number)["study"]),
     output:
         csv=report(
-            "results/tables/table_{number}.csv",
+            res("tables/table_{number}.csv"),
             caption="../report/table.rst",
             category="Tables",
             labels={"table": "{number}"},
         ),
-        md="results/tables/table_{number}.md",
-        notes="results/notes/table_{number}.txt",
+        md=res("tables/table_{number}.md"),
+        notes=res("notes/table_{number}.txt"),
     log:
-        "results/logs/table_{number}.log",
+        res("logs/table_{number}.log"),
     wildcard_constraints:
         number=beam_table_pattern(),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         spec=lambda w: table_spec(int(w.number)),
         methods=lambda w: config["studies"][table_spec(int(w.number))["study"]][
@@ -64,7 +91,11 @@ rule shape_figures:
             subcategory="Mode shapes",
         ),
     log:
-        "results/logs/shape_figures.log",
+        res("logs/shape_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         figures=config["shape_figures"],
         captions=FIGURE_CAPTIONS,
@@ -87,7 +118,11 @@ rule noise_figures:
             subcategory="Noise",
         ),
     log:
-        "results/logs/noise_figures.log",
+        res("logs/noise_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         figures=config["noise_figures"],
         captions=FIGURE_CAPTIONS,
@@ -102,14 +137,18 @@ rule cera_sensitivity:
         code=PLOT_CODE,
         identified=identified("cera"),
     output:
-        csv="results/tables/cera_sensitivity.csv",
+        csv=res("tables/cera_sensitivity.csv"),
         png=report(
-            "results/figures/cera_sensitivity.png",
+            res("figures/cera_sensitivity.png"),
             caption="../report/cera_sensitivity.rst",
             category="Beyond the thesis",
         ),
     log:
-        "results/logs/cera_sensitivity.log",
+        res("logs/cera_sensitivity.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         interpretations=config["studies"]["cera"]["interpretations"],
         first_seed=config["seeds"]["first"],

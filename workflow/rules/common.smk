@@ -4,6 +4,28 @@ import os
 import yaml
 from pathlib import Path
 
+from modal.thesis.chunks import seed_chunks
+from modal.thesis.study import study_cases
+
+# --- the run: where results go ---------------------------------------------------
+# `run: default` (config/config.yaml) writes the committed results/; any other
+# name (`--config run=<name>` or `run:` in a layered config) writes everything,
+# tables, figures, notebooks, report, logs, under results/runs/<name>/, so a
+# parameter study never touches the committed tables.
+RUN = config.get("run", "default")
+RESULTS = "results" if RUN == "default" else f"results/runs/{RUN}"
+
+
+def res(path):
+    """``path`` under this run's results folder (``results/`` for the default run)."""
+    return f"{RESULTS}/{path}"
+
+
+wildcard_constraints:
+    study=r"[^/]+",
+    interpretation=r"[^/_]+",
+    chunk=r"\d+",
+
 
 # --- code inputs ---------------------------------------------------------------
 # Snakemake does not see edits to imported modules: each rule lists the code
@@ -44,6 +66,7 @@ PLOT_CODE = code(
     "modal/signals.py",
 )
 GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
+CHUNK_CODE = code("modal/thesis/__init__.py", "modal/thesis/chunks.py")
 SUMMARY_CODE = TABLE_CODE
 NOTEBOOK_CODE = code(
     "modal/thesis/__init__.py", "modal/thesis/display.py", "modal/thesis/report.py"
@@ -72,8 +95,42 @@ def study_of_table(number):
 def identified(study):
     """The identified-modes files of one study, one per interpretation."""
     return [
-        f"results/identified/{study}_{i}.csv"
+        res(f"identified/{study}_{i}.csv")
         for i in config["studies"][study]["interpretations"]
+    ]
+
+
+# --- Monte Carlo seeds in chunks: one identification job per chunk ----------------
+def is_noisy(study):
+    """Whether a study has a noisy case (identified once per seed)."""
+    return any(c["noise"] > 0 for c in study_cases(config["studies"][study]).values())
+
+
+def study_chunks(study):
+    """Chunk numbers of a study: one per ``seeds.chunk`` seeds if it is noisy,
+    else a single chunk (its noise-free cases run once)."""
+    return range(len(seed_chunks(config["seeds"])) if is_noisy(study) else 1)
+
+
+def identify_runtime(study):
+    """Minutes to ask a cluster for one identify job: 1 s per seed and case
+    (measured: 0.01-0.1 s), at least 10 minutes."""
+    n_cases = len(study_cases(config["studies"][study]))
+    seeds = config["seeds"]
+    return max(10, n_cases * (seeds.get("chunk") or seeds["count"]) // 60)
+
+
+def grid_identify_runtime():
+    """Minutes for one grid_identify job: 30 s per virtual test (measured:
+    about 3 s), at least 10 minutes."""
+    seeds = config["grid"]["seeds"]
+    return max(10, (seeds.get("chunk") or seeds["count"]) // 2)
+
+
+def identified_chunks(study, interpretation):
+    return [
+        res(f"identified/chunks/{study}_{interpretation}_{k}.csv")
+        for k in study_chunks(study)
     ]
 
 
@@ -89,23 +146,23 @@ def measured_outputs():
 
 def table_files(numbers):
     return [
-        f"results/tables/table_{n:02d}.{ext}" for n in numbers for ext in ("csv", "md")
+        res(f"tables/table_{n:02d}.{ext}") for n in numbers for ext in ("csv", "md")
     ]
 
 
 def note_files(numbers):
-    return [f"results/notes/table_{n:02d}.txt" for n in numbers]
+    return [res(f"notes/table_{n:02d}.txt") for n in numbers]
 
 
 def figure_files(numbers):
-    return [f"results/figures/figure_{n:02d}.png" for n in numbers]
+    return [res(f"figures/figure_{n:02d}.png") for n in numbers]
 
 
 def cera_sensitivity_files():
     if "cera" in config["studies"] and config["studies"]["cera"].get("cols_sweep"):
         return [
-            "results/tables/cera_sensitivity.csv",
-            "results/figures/cera_sensitivity.png",
+            res("tables/cera_sensitivity.csv"),
+            res("figures/cera_sensitivity.png"),
         ]
     return []
 
@@ -151,6 +208,17 @@ def grid_inputs():
     return []
 
 
+def grid_chunks():
+    """Chunk numbers of the grid's virtual tests (``grid.seeds.chunk``); a
+    measured record is one chunk."""
+    grid = config["grid"]
+    return range(len(seed_chunks(grid["seeds"])) if grid["source"] == "virtual" else 1)
+
+
+def grid_chunk_files(kind, ext="csv"):
+    return [res(f"grid/chunks/{kind}_{k}.{ext}") for k in grid_chunks()]
+
+
 def grid_outputs():
     return table_files(grid_tables()) + figure_files(grid_figures())
 
@@ -164,13 +232,13 @@ NOTEBOOKS = [
     "04_cera",
     "05_grid",
 ]
-SUMMARY = "results/tables/summary.csv"
+SUMMARY = res("tables/summary.csv")
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.
 NOTEBOOK_PATHS = {
-    "tables_dir": "results/tables",
-    "figures_dir": "results/figures",
-    "identified_dir": "results/identified",
+    "tables_dir": res("tables"),
+    "figures_dir": res("figures"),
+    "identified_dir": res("identified"),
     "summary_file": SUMMARY,
     "captions_file": CAPTIONS,
 }
@@ -235,8 +303,8 @@ def report_outputs():
     """The summary, the executed notebooks and the HTML report (rule all)."""
     return (
         [SUMMARY]
-        + [f"results/notebooks/{name}.ipynb" for name in NOTEBOOKS]
-        + ["results/report.html"]
+        + [res(f"notebooks/{name}.ipynb") for name in NOTEBOOKS]
+        + [res("report.html")]
     )
 
 

@@ -1,7 +1,8 @@
-# Chapter 7: the grid experiment. One job shakes the virtual grid once per seed
-# (or reads the measured record) and runs every identification of the grid
-# tables; tables and figures read its files. Table and figure numbers come
-# from config (grid.tables, grid.figures).
+# Chapter 7: the grid experiment. One job per chunk of `grid.seeds.chunk`
+# virtual shaking tests (or one for the measured record) runs every
+# identification of the grid tables; grid_merge joins the chunks (byte for
+# byte the unsplit run's files). Tables and figures read the merged files.
+# Table and figure numbers come from config (grid.tables, grid.figures).
 
 
 rule grid_identify:
@@ -9,38 +10,67 @@ rule grid_identify:
         code=ENGINE + GRID_CODE,
         record=grid_inputs(),
     output:
-        identified="results/grid/identified.csv",
-        selection="results/grid/selection.csv",
-        record="results/grid/record_first_seed.npz",
+        identified=res("grid/chunks/identified_{chunk}.csv"),
+        selection=res("grid/chunks/selection_{chunk}.csv"),
+        record=res("grid/chunks/record_{chunk}.npz"),
     log:
-        "results/logs/grid_identify.log",
+        res("logs/grid_identify_{chunk}.log"),
     benchmark:
-        "results/benchmarks/grid_identify.tsv"
+        res("benchmarks/grid_identify_{chunk}.tsv")
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=lambda w: grid_identify_runtime(),
     params:
         spec=config.get("grid"),
+        chunk=lambda w: int(w.chunk),
     script:
         "../scripts/grid_identify.py"
+
+
+rule grid_merge:
+    input:
+        code=CHUNK_CODE,
+        identified=lambda w: grid_chunk_files("identified"),
+        selection=lambda w: grid_chunk_files("selection"),
+        record=lambda w: grid_chunk_files("record", "npz")[0],
+    output:
+        identified=res("grid/identified.csv"),
+        selection=res("grid/selection.csv"),
+        record=res("grid/record_first_seed.npz"),
+    log:
+        res("logs/grid_merge.log"),
+    localrule: True
+    run:
+        from modal.thesis.chunks import merge_grid_chunks
+
+        merge_grid_chunks(input.identified, input.selection, input.record, output)
+        Path(log[0]).write_text(f"merged {len(input.identified)} chunks\n")
 
 
 rule grid_table:
     input:
         code=GRID_TABLE_CODE,
         published=config["published"],
-        identified="results/grid/identified.csv",
-        selection="results/grid/selection.csv",
+        identified=res("grid/identified.csv"),
+        selection=res("grid/selection.csv"),
     output:
         csv=report(
-            "results/tables/table_{number}.csv",
+            res("tables/table_{number}.csv"),
             caption="../report/table.rst",
             category="Tables",
             labels={"table": "{number}"},
         ),
-        md="results/tables/table_{number}.md",
-        notes="results/notes/table_{number}.txt",
+        md=res("tables/table_{number}.md"),
+        notes=res("notes/table_{number}.txt"),
     log:
-        "results/logs/table_{number}.log",
+        res("logs/table_{number}.log"),
     wildcard_constraints:
         number=grid_table_pattern(),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         spec=config.get("grid"),
         first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
@@ -51,8 +81,8 @@ rule grid_table:
 rule grid_figures:
     input:
         code=GRID_PLOT_CODE,
-        record="results/grid/record_first_seed.npz",
-        selection="results/grid/selection.csv",
+        record=res("grid/record_first_seed.npz"),
+        selection=res("grid/selection.csv"),
     output:
         report(
             figure_files(grid_figures()),
@@ -61,7 +91,11 @@ rule grid_figures:
             subcategory="Grid",
         ),
     log:
-        "results/logs/grid_figures.log",
+        res("logs/grid_figures.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         spec=config.get("grid"),
         captions=FIGURE_CAPTIONS,

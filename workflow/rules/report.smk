@@ -7,11 +7,15 @@
 rule summary:
     input:
         code=SUMMARY_CODE,
-        tables=[f"results/tables/table_{n:02d}.csv" for n in all_tables()],
+        tables=[res(f"tables/table_{n:02d}.csv") for n in all_tables()],
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:
-        "results/logs/summary.log",
+        res("logs/summary.log"),
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
     params:
         titles=TABLE_TITLES,
     script:
@@ -25,14 +29,18 @@ rule notebook:
         data=lambda w: notebook_inputs(w.name),
         notebook="notebooks/{name}.ipynb",
     output:
-        "results/notebooks/{name}.ipynb",
+        res("notebooks/{name}.ipynb"),
     log:
         # papermill writes the executed notebook here cell by cell: after a
         # failure it holds the traceback; on success it is copied to output.
-        notebook="results/logs/notebook_{name}.ipynb",
-        text="results/logs/notebook_{name}.log",
+        notebook=res("logs/notebook_{name}.ipynb"),
+        text=res("logs/notebook_{name}.log"),
     wildcard_constraints:
         name="|".join(NOTEBOOKS),
+    threads: 1
+    resources:
+        mem_mb=800,
+        runtime=10,
     params:
         parameters=lambda w: notebook_parameters(w.name),
     script:
@@ -47,13 +55,16 @@ rule report_html:
         summary=SUMMARY,
         outputs=report_inputs(),
     output:
-        report(
-            "results/report.html", caption="../report/report.rst", category="Summary"
-        ),
+        report(res("report.html"), caption="../report/report.rst", category="Summary"),
     log:
-        "results/logs/report_html.log",
+        res("logs/report_html.log"),
+    threads: 1
+    resources:
+        mem_mb=400,
+        runtime=10,
     params:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
+        run=RUN,
     script:
         "../scripts/report_html.py"

@@ -2,11 +2,11 @@
 import modal.thesis.intermediates
 import modal.thesis.plots
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("cera_sensitivity")
-redirect_log(snakemake)
+start_job(snakemake)
 
 frames = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["cera"],
                                                         snakemake.config["seeds"])

@@ -5,11 +5,11 @@ import numpy as np
 import modal.thesis.grid_study as gs
 import modal.thesis.intermediates
 import modal.thesis.plots as plots
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("grid_figures")
-redirect_log(snakemake)
+start_job(snakemake)
 
 spec, captions = snakemake.params.spec, snakemake.params.captions
 numbers = spec["figures"]

@@ -1,15 +1,15 @@
-"""Grid chapter: records (virtual or measured) -> every identification of the grid tables."""
+"""Grid chapter: records (one chunk of virtual tests, or the measured one) -> every identification of the grid tables."""
 import numpy as np
 
 import modal.thesis.grid_study as gs
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("grid_identify")
-redirect_log(snakemake)
+    snakemake = mock_snakemake("grid_identify", chunk=0)
+start_job(snakemake)
 
 spec = snakemake.params.spec
-records = gs.grid_records(spec)
+records = gs.grid_records(spec, chunk=snakemake.params.chunk)
 identified, selection = gs.run_grid_study(records, spec)
 identified.to_csv(snakemake.output.identified, index=False)
 selection.to_csv(snakemake.output.selection, index=False)

@@ -3,11 +3,11 @@ import modal.thesis.grid_study as gs
 import modal.thesis.intermediates
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("grid_table", number="11")
-redirect_log(snakemake)
+start_job(snakemake)
 
 number = int(snakemake.wildcards.number)
 spec = snakemake.params.spec

@@ -1,11 +1,11 @@
-"""Identify one study under one interpretation -> results/identified/*.csv."""
+"""Identify one chunk of seeds of one study under one interpretation -> results/identified/chunks/*.csv."""
 import modal.thesis.study
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
-    snakemake = mock_snakemake("identify", study="demo", interpretation="named")
-redirect_log(snakemake)
+    snakemake = mock_snakemake("identify", study="demo", interpretation="named", chunk=0)
+start_job(snakemake)
 
 frame = modal.thesis.study.run_study(snakemake.params.study, snakemake.params.beam, snakemake.params.signals,
-                                     snakemake.params.seeds)
+                                     snakemake.params.seeds, chunk=snakemake.params.chunk)
 frame.to_csv(snakemake.output[0], index=False)

@@ -1,11 +1,11 @@
 """Noise figures (thesis Figures 9-11): identified frequency against signal-to-noise ratio."""
 import modal.thesis.intermediates
 import modal.thesis.plots
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("noise_figures")
-redirect_log(snakemake)
+start_job(snakemake)
 
 identified = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["noise"],
                                                             snakemake.config["seeds"])

@@ -9,11 +9,11 @@ import yaml
 import modal.thesis.html
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("report_html")
-redirect_log(snakemake)
+start_job(snakemake)
 
 captions = yaml.safe_load(Path(snakemake.input.captions).read_text(encoding="utf-8"))
 files = {Path(f).name: Path(f) for f in snakemake.input.outputs}
@@ -32,5 +32,6 @@ if "cera_sensitivity.png" in files:
                        caption=captions["extras"]["cera_sensitivity"]))
 template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
-                                       extras, provenance={"config": ", ".join(snakemake.params.configfiles)})
+                                       extras, provenance={"config": ", ".join(snakemake.params.configfiles),
+                                                   "run": snakemake.params.run})
 Path(snakemake.output[0]).write_text(html, encoding="utf-8")

@@ -1,11 +1,11 @@
 """Mode-shape figures (thesis Figures 1-8): identified mode shapes against the exact ones."""
 import modal.thesis.intermediates
 import modal.thesis.plots
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("shape_figures")
-redirect_log(snakemake)
+start_job(snakemake)
 
 identified = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["demo"],
                                                             snakemake.config["seeds"])

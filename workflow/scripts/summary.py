@@ -2,11 +2,11 @@
 graded verdict -> results/tables/summary.csv (the notebooks and the HTML read it)."""
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("summary")
-redirect_log(snakemake)
+start_job(snakemake)
 
 tables = {}
 for path in snakemake.input.tables:

@@ -2,11 +2,11 @@
 import modal.thesis.intermediates
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, redirect_log
+from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("table", number="04")
-redirect_log(snakemake)
+start_job(snakemake)
 
 number = int(snakemake.wildcards.number)
 published = modal.thesis.tables.read_published(snakemake.input.published)
