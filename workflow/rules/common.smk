@@ -141,7 +141,11 @@ def numbers(mapping):
 def measured_outputs():
     """modes.csv and the stabilisation diagram of every record in config "measured"."""
     names = sorted(config.get("measured") or {})
-    return [f"results/measured/{n}/{f}" for n in names for f in ("modes.csv", "stabilisation.png")]
+    return [
+        res(f"measured/{n}/{f}")
+        for n in names
+        for f in ("modes.csv", "stabilisation.png")
+    ]
 
 
 def table_files(numbers):

@@ -7,14 +7,20 @@ rule measured_identify:
         ENGINE,
         record=lambda w: config["measured"][w.name]["path"],
     output:
-        modes="results/measured/{name}/modes.csv",
-        poles="results/measured/{name}/poles.csv",
-        diagram=report("results/measured/{name}/stabilisation.png", category="Measured records"),
+        modes=res("measured/{name}/modes.csv"),
+        poles=res("measured/{name}/poles.csv"),
+        diagram=report(
+            res("measured/{name}/stabilisation.png"), category="Measured records"
+        ),
+    log:
+        res("logs/measured_{name}.log"),
+    benchmark:
+        res("benchmarks/measured_{name}.tsv")
+    threads: 1
+    resources:
+        mem_mb=1000,
+        runtime=10,
     params:
         spec=lambda w: config["measured"][w.name],
-    log:
-        "results/logs/measured_{name}.log",
-    benchmark:
-        "results/benchmarks/measured_{name}.tsv"
     script:
         "../scripts/measured.py"

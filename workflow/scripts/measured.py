@@ -1,15 +1,15 @@
 """One measured record -> modes.csv, poles.csv and the stabilisation diagram
 (the same files as `modal identify`)."""
-import sys
 from argparse import Namespace
 from pathlib import Path
 
+from _helpers import mock_snakemake, start_job
+
 from modal.cli import identify
 
-if "snakemake" not in globals():  # by hand: python workflow/scripts/measured.py PATH OUT_DIR
-    raise SystemExit("run through Snakemake, or use `modal identify` directly")
-
-sys.stderr = open(snakemake.log[0], "w")
+if "snakemake" not in globals():
+    snakemake = mock_snakemake("measured_identify", name="palisaden")
+start_job(snakemake)
 spec = snakemake.params.spec
 args = Namespace(
     path=Path(snakemake.input.record), fs=spec.get("fs"), channels=spec.get("channels"), refs=spec.get("refs"),
