@@ -40,7 +40,8 @@ def _read(path, required) -> pd.DataFrame:
 def _missing(path, present, expected, what) -> None:
     absent = sorted(set(expected) - set(present), key=str)
     if absent:
-        shown = ", ".join(map(str, absent[:5])) + (f" and {len(absent) - 5} more" if len(absent) > 5 else "")
+        label = (lambda key: "(" + ", ".join(map(str, key)) + ")") if isinstance(absent[0], tuple) else str
+        shown = ", ".join(map(label, absent[:5])) + (f" and {len(absent) - 5} more" if len(absent) > 5 else "")
         raise ValueError(f"{path}: {len(absent)} expected {what} missing ({shown}); the file is incomplete")
 
 

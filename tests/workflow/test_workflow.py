@@ -161,7 +161,8 @@ def test_nothing_to_do_when_up_to_date(workdir):
 def test_config_edit_reruns_only_affected_jobs(workdir, tmp_path):
     edit = tmp_path / "edit.yaml"
     edit.write_text(yaml.safe_dump({**SMALL, "studies": {**SMALL["studies"],
-                                    "demo": {"cases": {"c4": {"damping": 0.01, "noise": 0.04}}}}},
+                                    "demo": {"cases": {"c4": {"damping": 0.01, "noise": 0.04}}}},
+                                    "tables": {4: {"title": "Identified frequencies with zeta = .01, eta = 4 %"}}},
                                    sort_keys=False))  # snakemake compares params in key order
     proc = snakemake(workdir, "--configfile", str(edit), "-n", "--rerun-triggers", "params", "input")
     out = proc.stdout + proc.stderr
