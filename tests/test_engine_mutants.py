@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import modal
+from modal.era import decompose, realise
 from modal.indicators import modal_amplitude_coherence, modal_phase_collinearity
 from modal.result import near_limit, normalise_shapes, sort_modes
 
@@ -259,6 +260,34 @@ def test_era_keeps_real_poles_with_their_decay_rate():
     np.testing.assert_array_equal(res.real_pole, [True, True, False])
     assert np.isnan(res.damping[:2]).all()
     assert res.damping[2] == pytest.approx(0.05 / s_pair, rel=1e-7)
+    np.testing.assert_allclose(res.eigenvalues, np.exp(np.array([-1.0, -2.0, -0.05 + 3.0j]) * dt), rtol=1e-9)
+    # realise() alone (one decomposition, any order) reports the kept singular values
+    h = modal.hankel(y, 21, 300)
+    p, d, qt, _ = decompose(h[:-2], 4)
+    low = realise(p, d, qt, h[2:], n_channels=2, n_sets=1, dt=dt)
+    np.testing.assert_array_equal(low.singular_values, d)
+    np.testing.assert_allclose(low.omega, res.omega, rtol=1e-12)
+
+
+def test_era_flags_a_mode_near_nyquist_aliased():
+    dt, k = 0.01, np.arange(600)
+    decay = np.exp(-0.001 * k)
+    y = np.column_stack([decay * np.cos(0.99 * np.pi * k) + np.sin(0.3 * k), decay * np.cos(0.99 * np.pi * k) - np.sin(0.3 * k)])
+    res = modal.era(y, dt, 2, rows=10, cols=400)
+    np.testing.assert_allclose(res.omega[1] * dt, np.hypot(0.99 * np.pi, 0.001), rtol=1e-8)
+    np.testing.assert_array_equal(res.aliased, [False, True])
+    np.testing.assert_array_equal(res.to_frame()["aliased"], [False, True])
+
+
+@pytest.mark.parametrize("size", [1.0, 1e6])
+def test_era_refuses_an_order_the_data_cannot_support(size):
+    """A real pole and one pair are three states: order 4 is refused, judged
+    against the largest singular value (here a real pole ``size`` times the
+    pair)."""
+    t = 0.05 * np.arange(400)
+    y = np.column_stack([size * np.exp(-t) + np.sin(3 * t), size * np.exp(-t) - 0.5 * np.sin(3 * t)])
+    with pytest.raises(ValueError, match=r"^n_modes = 2: the Hankel matrix has fewer than 4"):
+        modal.era(y, 0.05, 2, rows=10, cols=300)
 
 
 def test_singular_values_are_in_the_data_units():
@@ -310,6 +339,9 @@ def test_warning_names_window_and_frequencies_and_points_at_the_caller():
     # the warning points at the caller, not at the engine's result module
     # (not at this file exactly: under mutmut, trampolines add frames)
     assert not w.filename.endswith("result.py")
+    with pytest.warns(modal.ModalWarning, match=rf"short window \({96 * dt:.4g} s holds"):
+        warnings.simplefilter("always", modal.ModalWarning)
+        modal.cera(acc, dt, 2, cols=96)
 
 
 # --------------------------------------------------------------------------- #
@@ -352,9 +384,9 @@ def test_normalise_complex_shapes():
     np.testing.assert_array_equal(out[:, 2], 0.0)
     assert not np.iscomplexobj(out)
     # a complex (non-collinear) shape: the largest entry, not the first, sets the phase
-    shape = np.array([[0.1 + 0.3j], [2.0j], [0.5 - 0.5j]])
+    shape = 0.1 * np.array([[0.1 + 0.3j], [2.0 * np.exp(0.5j)], [0.5 - 0.5j]])
     out = normalise_shapes(shape)
-    rotated = (shape * -1j).real
+    rotated = (shape * np.exp(-0.5j)).real
     np.testing.assert_allclose(out, rotated / np.linalg.norm(rotated), atol=1e-15)
     # a small-norm real shape: still unit norm, largest entry positive
     np.testing.assert_allclose(normalise_shapes(np.array([[1e-3], [-4e-3]])), [[-0.2425356250363330], [0.9701425001453319]],
@@ -386,6 +418,8 @@ def test_align_shapes_flips_and_scales_to_the_reference():
     shapes = np.array([[-0.5, 0.0, 1.0], [-1.0, -6.0, 0.0], [-1.0, 8.0, 0.0], ]) @ np.diag([1.0, 1.0, 1.0])
     out = modal.indicators.align_shapes(shapes, reference)
     np.testing.assert_allclose(out, reference, rtol=1e-15)
+    # shapes of norm below 1 are scaled up as well
+    np.testing.assert_allclose(modal.indicators.align_shapes(shapes * 1e-3, reference), reference, rtol=1e-13)
     # fewer shapes than references: only as many columns; a zero column stays zero
     out = modal.indicators.align_shapes(np.column_stack([-shapes[:, 0], np.zeros(3)]), reference)
     np.testing.assert_allclose(out, np.column_stack([reference[:, 0], np.zeros(3)]), rtol=1e-15)
