@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Mutation testing of the engine (issue 8): mutmut over era, tcm, cera, hankel,
 # indicators, signals and result, against the engine tests only. Not run in CI
-# (about 15-20 min on this project's 2 shared cores).
+# (8 to 25 min on this project's 2 cores, depending on what else runs).
 #
 #   bash benchmarks/mutation.sh            # fresh run (deletes mutants/), then the kill rate
 #   bash benchmarks/mutation.sh --resume   # continue an interrupted run, then the kill rate
