@@ -415,7 +415,7 @@ def test_indicators_of_zero_vectors_are_zero():
 
 def test_align_shapes_flips_and_scales_to_the_reference():
     reference = np.array([[1.0, 0.0, 2.0], [2.0, 3.0, 0.0], [2.0, -4.0, 0.0]])  # norms 3, 5, 2
-    shapes = np.array([[-0.5, 0.0, 1.0], [-1.0, -6.0, 0.0], [-1.0, 8.0, 0.0], ]) @ np.diag([1.0, 1.0, 1.0])
+    shapes = np.array([[-0.5, 0.0, 1.0], [-1.0, -6.0, 0.0], [-1.0, 8.0, 0.0]])  # flipped, rescaled
     out = modal.indicators.align_shapes(shapes, reference)
     np.testing.assert_allclose(out, reference, rtol=1e-15)
     # shapes of norm below 1 are scaled up as well
