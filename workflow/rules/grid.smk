@@ -51,6 +51,7 @@ rule grid_table:
 rule grid_figures:
     input:
         code=GRID_PLOT_CODE,
+        published=config["published"],
         record="results/grid/record_first_seed.npz",
         selection="results/grid/selection.csv",
     output:

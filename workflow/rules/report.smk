@@ -55,5 +55,6 @@ rule report_html:
     params:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
+        default_config="config/config.yaml",
     script:
         "../scripts/report_html.py"

@@ -12,4 +12,6 @@ redirect_log(snakemake)
 frames = {i: pd.read_csv(f) for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
-modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title).savefig(snakemake.output.png, dpi=120)
+panels = {case: f"Table {number}. {title}" for number, (case, title) in sorted(snakemake.params.tables.items())}
+modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title, panels,
+                                           snakemake.params.configured).savefig(snakemake.output.png, dpi=120)
