@@ -27,6 +27,13 @@ def _flagged(entry, flag: str) -> bool:
     return flag in entry and bool(entry[flag])
 
 
+def _suptitle(fig: Figure, title: str, width: int = 78, fontsize: float = 10) -> None:
+    """The figure's title, wrapped so that it never runs off the figure."""
+    import textwrap
+
+    fig.suptitle("\n".join(textwrap.fill(line, width) for line in title.split("\n")), fontsize=fontsize)
+
+
 def _legend_below(fig: Figure, axes, ncols: int = 3) -> None:
     """One legend for the whole figure, below the panels (never over the data)."""
     handles = {}
@@ -95,7 +102,7 @@ def shape_figure(beam_spec: Mapping, identified: Mapping[str, pd.DataFrame], cas
     if footer:
         axes[-1].plot([], [], ls="none", label="; ".join(footer))
     _legend_below(fig, axes, ncols=3)
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title)
     return fig
 
 
@@ -142,7 +149,7 @@ def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) 
         ax.set_title(interpretation_name(interp), fontsize=8, loc="left")
     axes[-1].set_xlabel("snr = 1 / η")
     _legend_below(fig, axes, ncols=2)
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title)
     return fig
 
 
@@ -183,8 +190,8 @@ def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str
         ax.set_ylabel("error (%)")
         ax.set_title(panels[case], fontsize=8, loc="left")
     axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods at multiples of 360)")
-    _legend_below(fig, axes, ncols=3)
-    fig.suptitle(title + "\n(error axis linear within ±1 %, logarithmic beyond)", fontsize=9)
+    _legend_below(fig, axes, ncols=2)
+    _suptitle(fig, title + "\n(error axis linear within ±1 %, logarithmic beyond)", width=95, fontsize=9)
     return fig
 
 
@@ -210,7 +217,7 @@ def grid_figure(grid, nodes, chosen, title: str) -> Figure:
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, -0.25), ncols=2, fontsize=8)
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title)
     return fig
 
 
@@ -239,12 +246,14 @@ def response_figure(acc: np.ndarray, dt: float, numbers, title: str, spectrum: b
             axes[k, 1].semilogy(freqs[band], amp[band, k], lw=0.8)
             axes[k, 1].set_xlabel("f (Hz)")
             axes[k, 1].set_ylabel("|FFT| / N")
-            for values, style, label in ((peaks_hz, dict(color="tab:red", ls="--"), "picked peaks (ours)"),
-                                         (thesis_hz, dict(color="k", ls=":"), "the thesis's estimates")):
-                for i, f in enumerate(np.asarray(values if values is not None else [], float)):
-                    axes[k, 1].axvline(f, lw=0.9, **style, label=label if i == 0 else None)
+            for i, f in enumerate(np.asarray(peaks_hz if peaks_hz is not None else [], float)):
+                axes[k, 1].axvline(f, color="tab:red", ls="--", lw=0.9, label=None if i else "picked peaks (ours)")
+            thesis_hz = np.asarray(thesis_hz if thesis_hz is not None else [], float)
+            if thesis_hz.size:
+                axes[k, 1].plot(thesis_hz, np.full(thesis_hz.size, 0.97), "kv", ms=6, ls="none",
+                                transform=axes[k, 1].get_xaxis_transform(), label="the thesis's estimates")
     _legend_below(fig, axes, ncols=2)
-    fig.suptitle(title, fontsize=10)
+    _suptitle(fig, title)
     return fig
 
 
