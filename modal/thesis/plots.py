@@ -56,7 +56,7 @@ def shape_figure(beam_spec: Mapping, identified: Mapping[str, pd.DataFrame], cas
     mode shifts nothing. The panel's heading gives the exact and identified
     frequencies; a mode not identified in the first seed is said so, real
     poles are listed under the panels, and entries flagged ``unstable`` are
-    drawn hollow.
+    circled in red.
     """
     beam = SimplySupportedBeam(beam_spec["length"], beam_spec["bending_stiffness"], beam_spec["mass_per_length"])
     x_s = beam.length / beam_spec["stations"] * np.asarray(beam_spec["sensors"], float)
@@ -86,8 +86,12 @@ def shape_figure(beam_spec: Mapping, identified: Mapping[str, pd.DataFrame], cas
             entry = entry.iloc[0]
             shape = align_shapes(entry[_shape_columns(rows)].to_numpy(float)[:, None], exact_s[:, [r]])[:, 0]
             unstable = _flagged(entry, "unstable")
-            axes[r].plot(x_s, shape, marker, ms=7, ls="none", color=f"C{k}", mfc="none" if unstable else None,
-                         label=label)
+            # the second interpretation hollow, so that it never hides the first
+            axes[r].plot(x_s, shape, marker, ms=7 if k == 0 else 8, ls="none", color=f"C{k}",
+                         mfc="none" if k else None, label=label)
+            if unstable:
+                axes[r].plot(x_s, shape, "o", ms=13, ls="none", mfc="none", color="tab:red",
+                             label="flagged unstable (|z| > 1)")
             headings[r].append(f"{label} {entry['omega']:.3f}" + (" (unstable)" if unstable else ""))
         poles = first[first["real_pole"].astype(bool)]
         if len(poles):
@@ -276,7 +280,7 @@ def deviation_figure(summary: pd.DataFrame) -> Figure:
     ax.axvline(1, color="k", ls=":", lw=1, label="1 %")
     for verdict, color in VERDICT_COLORS.items():
         if verdict in set(rows["verdict"]):
-            ax.barh([], [], color=color, label=verdict)
+            ax.plot([], [], "s", ms=9, color=color, label=verdict)
     ax.set_xlabel("largest |relative deviation| from the printed value (%), best interpretation")
     _legend_below(fig, ax, ncols=3)
     fig.suptitle("Deviation per thesis table", fontsize=10)
@@ -297,7 +301,8 @@ def seed_distribution_figure(identified: pd.DataFrame, table: pd.DataFrame, titl
     modes = sorted(pub["mode"].unique())
     fig = Figure(figsize=(3.3 * len(methods), 1.9 * len(modes) + 1.2), layout="constrained")
     axes = np.atleast_2d(fig.subplots(len(modes), len(methods), squeeze=False))
-    for (interp, frame), color in zip(identified.groupby("interpretation", sort=False), ("C0", "C1", "C2")):
+    for k, ((interp, frame), color) in enumerate(zip(identified.groupby("interpretation", sort=False),
+                                                     ("C0", "C1", "C2"))):
         mode_of = assign_modes(frame)
         for j, method in enumerate(methods):
             runs = frame[frame["method"] == method]
@@ -305,9 +310,10 @@ def seed_distribution_figure(identified: pd.DataFrame, table: pd.DataFrame, titl
             for i, mode in enumerate(modes):
                 values = runs.loc[mode_of.reindex(runs.index) == mode, "omega"]
                 ax = axes[i, j]
-                ax.hist(values, bins=20, color=color, alpha=0.5,
-                        label=f"{interp}: {n_seeds} seeds" + (f", mode lost in {n_seeds - len(values)}"
-                                                               if len(values) < n_seeds else ""))
+                ax.hist(values, bins=20, color=color, alpha=0.5, label=f"{interp} ({n_seeds} seeds)")
+                if len(values) < n_seeds:
+                    ax.text(0.98, 0.92 - 0.1 * k, f"{interp}: lost in {n_seeds - len(values)} seeds",
+                            transform=ax.transAxes, ha="right", fontsize=6, color=color)
     for i, mode in enumerate(modes):
         for j, method in enumerate(methods):
             ax = axes[i, j]
@@ -357,7 +363,11 @@ def spillover_figure(tables: Mapping[int, pd.DataFrame], titles: Mapping[int, st
         ax.set_xticks(sorted(cells["n_id"].unique()))
         ax.set_xlabel("n (modes identified)")
         ax.set_ylabel("ω (rad/s)")
-        ax.set_title(f"Table {number}. {titles.get(number, '')}\n{inclusion.get(number, '')}", fontsize=7, loc="left")
+        import textwrap
+
+        heading = "\n".join([f"Table {number}. {titles.get(number, '')}",
+                             *textwrap.wrap(inclusion.get(number, ""), 92)])
+        ax.set_title(heading, fontsize=7, loc="left")
     _legend_below(fig, axes, ncols=4)
     fig.suptitle("Identification spillover: frequency against n", fontsize=10)
     return fig
