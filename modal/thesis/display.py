@@ -24,6 +24,30 @@ def _display(*objects):
     display(*objects)
 
 
+def show_figure(fig) -> None:
+    """A matplotlib Figure (no pyplot) as a PNG in the notebook."""
+    import io
+
+    from IPython.display import Image
+
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=100)
+    _display(Image(data=buffer.getvalue(), format="png"))
+
+
+#: How the numeric columns of a tidy table are shown.
+FORMATS = {"reproduced": "{:.4f}", "std": "{:.4f}", "seed0": "{:.4f}", "published": "{:.4f}", "z": "{:+.2f}",
+           "rel_dev": "{:+.3%}", "real_pole_frac": "{:.0%}", "missed_frac": "{:.0%}", "max_abs_rel_dev": "{:.3g}",
+           "n_within_noise": "{:.0f}"}
+
+
+def styled(frame: pd.DataFrame):
+    """A table for reading: numbers to the digits that matter, a relative
+    deviation in percent, missing values blank, no index."""
+    formats = {c: f for c, f in FORMATS.items() if c in frame}
+    return frame.style.hide(axis="index").format(formats, na_rep="")
+
+
 def markdown(text: str) -> None:
     """Markdown with '*' (the thesis's real-pole mark) kept literal."""
     from IPython.display import Markdown
@@ -70,7 +94,7 @@ class Results:
         columns and the thesis's empty cells "-----" left out)."""
         if frame is not None:
             shown = ~frame["method"].isin(REFERENCE_METHODS) & (frame["flag"] != "absent")
-            _display(frame.loc[shown, [c for c in TIDY if c in frame]])
+            _display(styled(frame.loc[shown, [c for c in TIDY if c in frame]]))
 
     def figure(self, number: int | None = None, name: str | None = None, caption: str | None = None) -> None:
         """A figure (PNG) with the thesis's caption, or a note that it is missing."""
@@ -101,7 +125,9 @@ class Results:
 
         shown = frame[["table", "title", "interpretation", "n_match", "n_compared", "n_within_noise",
                        "max_abs_rel_dev", "worst", "verdict", "why"]]
-        _display(HTML(shown.style.hide(axis="index").format(na_rep="", precision=4).to_html()))
+        shown = shown.assign(max_abs_rel_dev=100 * shown["max_abs_rel_dev"]).rename(
+            columns={"max_abs_rel_dev": "largest |deviation| (%)"})
+        _display(HTML(styled(shown).format({"largest |deviation| (%)": "{:.3g}"}, na_rep="").to_html()))
         if definitions:
             markdown("\n".join(f"- {d}" for d in VERDICT_DEFINITIONS))
         return frame

@@ -5,7 +5,10 @@ HTML by hand; the numbers come from the workflow's CSV files."""
 from __future__ import annotations
 
 import base64
+import datetime
+import subprocess
 from collections.abc import Mapping, Sequence
+from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import pandas as pd
@@ -28,6 +31,69 @@ SUMMARY_COLUMNS = {
 }
 
 
+#: Packages whose versions the report names.
+PACKAGES = ("modal-identification", "numpy", "scipy", "pandas", "matplotlib", "snakemake", "papermill", "jinja2")
+
+
+def _flatten(mapping, prefix=""):
+    out = {}
+    for key, value in mapping.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping) and value:
+            out.update(_flatten(value, name + "."))
+        else:
+            out[name] = value
+    return out
+
+
+def config_diff(default: Mapping, used: Mapping) -> list[dict]:
+    """The keys where the config a run used differs from the default
+    (``config/config.yaml``), as ``{"key", "default", "used"}`` with dotted
+    keys (``seeds.count``); values absent on one side are ``"(absent)"``."""
+    flat_default, flat_used = _flatten(default), _flatten(used)
+    rows = []
+    for key in sorted(set(flat_default) | set(flat_used)):
+        a, b = flat_default.get(key, "(absent)"), flat_used.get(key, "(absent)")
+        if a != b:
+            rows.append(dict(key=key, default=str(a), used=str(b)))
+    return rows
+
+
+def _git(root, *args) -> str | None:
+    try:
+        done = subprocess.run(["git", *args], cwd=root, capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return done.stdout.strip() if done.returncode == 0 else None
+
+
+def provenance(root, default: Mapping, used: Mapping, configfiles: Sequence[str] = ()) -> dict:
+    """What a report came from: the commit and whether the work tree had
+    uncommitted changes (``git status --porcelain``), the config files and
+    the config's differences from the default (:func:`config_diff`), the
+    versions of :data:`PACKAGES`, the Python version and the date (UTC)."""
+    import platform
+
+    commit = _git(root, "rev-parse", "HEAD")
+    status = _git(root, "status", "--porcelain", "--untracked-files=no")
+    versions = {}
+    for package in PACKAGES:
+        try:
+            versions[package] = version(package)
+        except PackageNotFoundError:
+            versions[package] = "not installed"
+    versions["python"] = platform.python_version()
+    return dict(
+        commit=commit or "unknown (not a git work tree)",
+        dirty=None if status is None else bool(status),
+        changed=status.splitlines() if status else [],
+        configfiles=list(configfiles),
+        config_diff=config_diff(default, used),
+        versions=versions,
+        date=datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+    )
+
+
 def summary_frame(summary: pd.DataFrame) -> pd.DataFrame:
     """``summary.csv`` as a reader sees it: counts as integers, the largest
     deviation in percent (three significant digits), headings in words."""
@@ -41,9 +107,31 @@ def summary_html(summary: pd.DataFrame) -> str:
     return summary_frame(summary).to_html(index=False, border=0, classes="summary", na_rep="")
 
 
+#: Words for the method and column codes of the thesis's layout.
+HEADINGS = {"tcm": "TCM", "era": "ERA", "cera": "CERA", "actual": "Exact", "est": "Est. (peak picking)",
+            "true": "True frequency", "pct_change_from_10hz": "% change from 10 Hz"}
+
+
+def human_heading(label: str) -> tuple[str, str]:
+    """A column of :func:`~modal.thesis.tables.thesis_layout` as a two-level
+    heading: ``"era n=3 (named)"`` -> ``("ERA, n = 3", "ours, named")``,
+    ``"tcm (thesis)"`` -> ``("TCM", "thesis")``."""
+    name, _, source = label.rpartition(" (")
+    source = source.rstrip(")")
+    words = [HEADINGS.get(w, w.replace("=", " = ")) for w in name.split(" ")]
+    group = words[0] + (", " + " ".join(words[1:]) if len(words) > 1 else "")
+    if source not in ("thesis", "exact", "ours", "model"):
+        source = f"ours, {source}"
+    return group, source
+
+
 def layout_html(table: pd.DataFrame) -> str:
-    """A tidy table (``table_NN.csv``) in the thesis's layout, as HTML."""
-    return thesis_layout(table).to_html(border=0, na_rep="")
+    """A tidy table (``table_NN.csv``) in the thesis's layout, as HTML, with
+    two-level headings in words (:func:`human_heading`)."""
+    layout = thesis_layout(table)
+    layout.columns = pd.MultiIndex.from_tuples([human_heading(c) for c in layout.columns])
+    layout.index.name = "mode r"
+    return layout.to_html(border=0, na_rep="")
 
 
 def png_data_uri(path) -> str:

@@ -9,6 +9,15 @@ import pandas as pd
 
 NOISE_FREE_SEED = -1
 
+#: How figures and the report name the interpretations (config ``interpretations``).
+INTERPRETATION_NAMES = {"named": "signals as named", "lower": "signals one derivative lower"}
+
+
+def interpretation_name(interpretation: str) -> str:
+    """``"named (signals as named)"``; an interpretation without a description keeps its name."""
+    text = INTERPRETATION_NAMES.get(interpretation)
+    return f"{interpretation} ({text})" if text else interpretation
+
 #: Precision of every float the workflow writes to ``results/tables`` (six
 #: significant digits: the thesis prints at most four). Last-digit noise of
 #: the linear algebra (1e-14 on the beams, 1e-8 on the grid) would otherwise
@@ -86,35 +95,66 @@ def match_to_reference(group: pd.DataFrame) -> pd.Series:
     return matched
 
 
+def run_modes(group: pd.DataFrame) -> tuple[pd.Series, bool]:
+    """Mode number each identified entry of one run (one method, n and s
+    over its seeds) stands for, as every table and figure aligns them.
+
+    When several seeds are aggregated, some seed has a real pole or a
+    different number of entries, and the run identifies at least as many
+    modes as participate (``participating`` column), each seed's entries are
+    matched to the exact modes by frequency (:func:`match_to_reference`);
+    otherwise (one realisation, the same entries in every seed, or spillover
+    with fewer identified than participating modes) the position in the
+    frequency-sorted list is the mode. Real poles and unmatched entries get NaN.
+
+    Returns
+    -------
+    mode_of : Series
+        Indexed like ``group``.
+    matching : bool
+        True when matched by frequency.
+    """
+    n_seeds = group["seed"].nunique()
+    counts = group.groupby("seed")["mode"].count()
+    unstable = group["real_pole"].astype(bool).any() or counts.nunique() > 1
+    matching = bool(n_seeds > 1 and unstable and "participating" in group
+                    and group["n"].iloc[0] >= group["participating"].iloc[0] and group["actual"].notna().any())
+    if matching:
+        return match_to_reference(group), True
+    return group["mode"].where(~group["real_pole"].astype(bool)), False
+
+
+#: Run labels of an identified-modes file: one run is one identification
+#: setting over its seeds (:func:`run_modes`).
+RUN_KEYS = ("case", "method", "n", "cols")
+
+
+def assign_modes(identified: pd.DataFrame) -> pd.Series:
+    """:func:`run_modes` over every run of an identified-modes file (grouped
+    by the :data:`RUN_KEYS` it has): the mode each entry stands for, NaN for
+    real poles and unmatched entries."""
+    keys = [k for k in RUN_KEYS if k in identified]
+    return pd.concat([run_modes(g)[0] for _, g in identified.groupby(keys, sort=False)]).reindex(identified.index)
+
+
 def aggregate(identified: pd.DataFrame, first_seed: int) -> pd.DataFrame:
     """Statistics over seeds of each (method, n, cols, mode).
 
     Table rows are positions in the frequency-sorted list, as the thesis
-    prints them (a real pole takes a row, marked ``*``). Over many noisy
-    seeds, positions would mix modes when a real pole or a lost mode shifts
-    the higher entries in some seeds, so when several seeds are aggregated,
-    some seed has a real pole or a different number of entries, and the run
-    identifies at least as many modes as participate (``participating``
-    column), each seed's entries are first matched to the exact modes
-    (:func:`match_to_reference`); otherwise (one realisation, the same
-    entries in every seed, or spillover with fewer identified than
-    participating modes) the position is the mode. Real poles and missed modes are left out of the mean and
-    std; ``real_pole_frac`` is the fraction of seeds with a real pole at that
-    position, ``missed_frac`` the fraction in which that mode was not found.
+    prints them (a real pole takes a row, marked ``*``); the values behind
+    each row's mean and std are the entries :func:`run_modes` assigns to that
+    mode (by frequency when seeds disagree, so a real pole or a lost mode
+    does not mix modes). Real poles and missed modes are left out of the
+    mean and std; ``real_pole_frac`` is the fraction of seeds with a real
+    pole at that position, ``missed_frac`` the fraction in which that mode
+    was not found.
     ``seed0`` is the single realisation with the first seed (or the
     noise-free run), by position.
     """
     rows = []
     for key, group in identified.groupby(["method", "n", "cols"], sort=True):
         n_seeds = group["seed"].nunique()
-        counts = group.groupby("seed")["mode"].count()
-        unstable = group["real_pole"].astype(bool).any() or counts.nunique() > 1
-        matching = (n_seeds > 1 and unstable and "participating" in group
-                    and key[1] >= group["participating"].iloc[0] and group["actual"].notna().any())
-        if matching:
-            mode_of = match_to_reference(group)
-        else:
-            mode_of = group["mode"].where(~group["real_pole"].astype(bool))
+        mode_of, matching = run_modes(group)
         for mode, sub in group.groupby("mode", sort=True):
             values = group.loc[mode_of == mode, "omega"]
             first = sub[sub["seed"].isin([first_seed, NOISE_FREE_SEED])]
@@ -231,7 +271,11 @@ def _cell(row) -> str:
     """The reproduced value to the published cell's decimals (one more where
     the thesis printed a dash or star), with ± std over seeds and real-pole marks."""
     if pd.isna(row["reproduced"]):
-        return ""
+        if row["method"] in ("actual", "est"):
+            return ""
+        # a blank would read as "not computed": say why the value is missing
+        poles = row.get("real_pole_frac", 0)
+        return "not identified" + (f" (real pole in {100 * poles:.0f} % of seeds)" if poles and poles > 0 else "")
     printed = row["printed"] if isinstance(row["printed"], str) else ""
     digits = decimals(printed) if printed[:1] not in ("*", "-", "") else 2
     text = f"{row['reproduced']:.{digits}f}"

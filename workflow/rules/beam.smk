@@ -153,5 +153,9 @@ rule cera_sensitivity:
         interpretations=config["studies"]["cera"]["interpretations"],
         first_seed=config["seeds"]["first"],
         title=EXTRA_CAPTIONS["cera_sensitivity"],
+        tables={
+            n: (table_spec(n)["case"], table_spec(n)["title"]) for n in tables_of("cera")
+        },
+        configured=config["studies"]["cera"]["methods"]["cera"]["cols"],
     script:
         "../scripts/cera_sensitivity.py"

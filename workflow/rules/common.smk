@@ -68,8 +68,16 @@ PLOT_CODE = code(
 GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
 CHUNK_CODE = code("modal/thesis/__init__.py", "modal/thesis/chunks.py")
 SUMMARY_CODE = TABLE_CODE
-NOTEBOOK_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/display.py", "modal/thesis/report.py"
+# The notebooks draw figures and 01 recomputes a case through the engine.
+NOTEBOOK_CODE = (
+    ENGINE
+    + STUDY_CODE
+    + code(
+        "modal/thesis/display.py",
+        "modal/thesis/report.py",
+        "modal/thesis/tables.py",
+        "modal/thesis/plots.py",
+    )
 )
 REPORT_CODE = code(
     "modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py"
@@ -250,10 +258,17 @@ NOTEBOOK_PATHS = {
 
 def notebook_parameters(name):
     """Paths, and for the grid notebook the grid's table and figure numbers."""
+    demo = config["studies"]["demo"]
     return {
         **NOTEBOOK_PATHS,
+        "published_file": config["published"],
         "table_numbers": grid_tables(),
         "figure_numbers": grid_figures(),
+        "beam": config["beams"][demo["beam"]],
+        "interpretations": {i: config["interpretations"][i] for i in demo["interpretations"]},
+        "noisy_cases": {
+            n: table_spec(n)["case"] for n in noisy_tables() if study_of_table(n) == "demo"
+        },
     }
 
 
@@ -273,7 +288,8 @@ def chapter_outputs(name):
     if name == "01_method_demo":
         numbers_ = tables_of("demo")
         return (
-            table_files(numbers_)
+            [config["published"]]
+            + table_files(numbers_)
             + note_files(numbers_)
             + figure_files(numbers(config["shape_figures"]))
         )
@@ -284,6 +300,7 @@ def chapter_outputs(name):
             + table_files(all_tables())
             + note_files(all_tables())
             + identified("noise")
+            + identified("demo")
         )
     if name == "03_spillover":
         return table_files(tables_of("spillover")) + note_files(tables_of("spillover"))

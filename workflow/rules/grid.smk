@@ -81,6 +81,7 @@ rule grid_table:
 rule grid_figures:
     input:
         code=GRID_PLOT_CODE,
+        published=config["published"],
         record=res("grid/record_first_seed.npz"),
         selection=res("grid/selection.csv"),
     output:

@@ -66,5 +66,6 @@ rule report_html:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
         run=RUN,
+        default_config="config/config.yaml",
     script:
         "../scripts/report_html.py"

@@ -13,4 +13,6 @@ frames = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["stu
           for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
 table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
-modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title).savefig(snakemake.output.png, dpi=120)
+panels = {case: f"Table {number}. {title}" for number, (case, title) in sorted(snakemake.params.tables.items())}
+modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title, panels,
+                                           snakemake.params.configured).savefig(snakemake.output.png, dpi=120)

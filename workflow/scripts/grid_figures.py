@@ -5,6 +5,7 @@ import numpy as np
 import modal.thesis.grid_study as gs
 import modal.thesis.intermediates
 import modal.thesis.plots as plots
+import modal.thesis.tables
 from _helpers import mock_snakemake, start_job
 
 if "snakemake" not in globals():
@@ -32,8 +33,14 @@ else:
     fig = plots.response_figure(rec["acceleration"], dt, channels, title(layout) + " (measured record: all channels)",
                                 spectrum=False)
 fig.savefig(paths[layout], dpi=110)
+# the spectra mark our peak-picked "est." frequencies and the thesis's (the first grid table's est column)
+picked = selection[selection["seed"] == selection["seed"].min()].sort_values("rank")["est_hz"].dropna().to_numpy()
+published = modal.thesis.tables.read_published(snakemake.input.published)
+estimates = published[(published["method"] == "est") & (published["table"] == min(spec["tables"]))]
+thesis_hz = estimates.sort_values("mode")["value"].dropna().to_numpy()
 for k, number in enumerate(numbers["responses"]):
-    plots.response_figure(acc[:, [k]], dt, [k + 1], title(number)).savefig(paths[number], dpi=110)
+    plots.response_figure(acc[:, [k]], dt, [k + 1], title(number), peaks_hz=picked,
+                          thesis_hz=thesis_hz).savefig(paths[number], dpi=110)
 cutoff = spec["figures_cutoff_hz"]
 filtered = gs.preprocess(acc, dt, cutoff)
 for k, number in enumerate(numbers["filtered"]):

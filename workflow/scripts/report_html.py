@@ -31,7 +31,9 @@ if "cera_sensitivity.png" in files:
     extras.append(dict(heading="CERA sensitivity to the Hankel width s", png=files["cera_sensitivity.png"],
                        caption=captions["extras"]["cera_sensitivity"]))
 template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
+default = yaml.safe_load(Path(snakemake.params.default_config).read_text(encoding="utf-8"))
+provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.config, snakemake.params.configfiles)
+provenance["run"] = snakemake.params.run
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
-                                       extras, provenance={"config": ", ".join(snakemake.params.configfiles),
-                                                   "run": snakemake.params.run})
+                                       extras, provenance)
 Path(snakemake.output[0]).write_text(html, encoding="utf-8")

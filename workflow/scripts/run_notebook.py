@@ -17,7 +17,15 @@ from _helpers import mock_snakemake
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("notebook", name="00_summary")
-sys.stderr = sys.stdout = open(snakemake.log.text, "w")
+log = open(snakemake.log.text, "w")
+# The kernel is a subprocess writing to the inherited file descriptors: on
+# shutdown jupyter_client interrupts it first, and it logs "KeyboardInterrupt
+# caught in kernel" (harmless). Send descriptors 1 and 2 to the log, not the console.
+sys.stdout.flush()
+sys.stderr.flush()
+os.dup2(log.fileno(), 1)
+os.dup2(log.fileno(), 2)
+sys.stderr = sys.stdout = log
 
 spec = KernelSpecManager().get_kernel_spec("python3")
 exe = spec.argv[0]
