@@ -154,7 +154,8 @@ rule cera_sensitivity:
         first_seed=config["seeds"]["first"],
         title=EXTRA_CAPTIONS["cera_sensitivity"],
         tables={
-            n: (table_spec(n)["case"], table_spec(n)["title"]) for n in tables_of("cera")
+            n: (table_spec(n)["case"], table_spec(n)["title"])
+            for n in tables_of("cera")
         },
         configured=config["studies"]["cera"]["methods"]["cera"]["cols"],
     script:

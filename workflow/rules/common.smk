@@ -256,6 +256,19 @@ NOTEBOOK_PATHS = {
 }
 
 
+def noisy_tables():
+    """Beam tables whose case adds sensor noise (identified over many seeds)."""
+    out = []
+    for n in table_numbers():
+        spec = table_spec(n)
+        case = (
+            config["studies"][spec["study"]].get("cases", {}).get(spec.get("case"), {})
+        )
+        if case.get("noise", 0) > 0:
+            out.append(n)
+    return out
+
+
 def notebook_parameters(name):
     """Paths, and for the grid notebook the grid's table and figure numbers."""
     demo = config["studies"]["demo"]
@@ -265,9 +278,13 @@ def notebook_parameters(name):
         "table_numbers": grid_tables(),
         "figure_numbers": grid_figures(),
         "beam": config["beams"][demo["beam"]],
-        "interpretations": {i: config["interpretations"][i] for i in demo["interpretations"]},
+        "interpretations": {
+            i: config["interpretations"][i] for i in demo["interpretations"]
+        },
         "noisy_cases": {
-            n: table_spec(n)["case"] for n in noisy_tables() if study_of_table(n) == "demo"
+            n: table_spec(n)["case"]
+            for n in noisy_tables()
+            if study_of_table(n) == "demo"
         },
     }
 
