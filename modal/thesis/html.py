@@ -157,7 +157,9 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
     figures : mapping
         Figure number -> ``{"caption", "png" (path or None)}``.
     extras : sequence of mapping
-        Results beyond the thesis: ``{"heading", "caption", "png"}``.
+        Results beyond the thesis: ``{"heading", "caption", "png"}`` and
+        optionally ``"frame"``, a table shown under the figure (a measured
+        record's modes).
     provenance : mapping
         What the page came from (config files), shown at its foot.
     """
@@ -177,6 +179,8 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
                 for n, t in sorted(tables.items())],
         figures=[dict(number=n, caption=f["caption"], src=png_data_uri(f["png"]) if f["png"] else None)
                  for n, f in sorted(figures.items())],
-        extras=[dict(e, src=png_data_uri(e["png"])) for e in extras],
+        extras=[dict(e, src=png_data_uri(e["png"]),
+                     table=markup(e["frame"].to_html(index=False, border=0, classes="summary", na_rep=""))
+                     if e.get("frame") is not None else None) for e in extras],
         provenance=provenance,
     )

@@ -333,8 +333,11 @@ def chapter_outputs(name):
 
 
 def report_inputs():
-    """What the HTML report reads: every table, its notes, every figure."""
-    return beam_outputs() + grid_outputs() + note_files(all_tables())
+    """What the HTML report reads: every table, its notes, every figure, and
+    the modes and diagram of every measured record."""
+    return (
+        beam_outputs() + grid_outputs() + note_files(all_tables()) + measured_outputs()
+    )
 
 
 def report_outputs():

@@ -30,6 +30,17 @@ extras = []
 if "cera_sensitivity.png" in files:
     extras.append(dict(heading="CERA sensitivity to the Hankel width s", png=files["cera_sensitivity.png"],
                        caption=captions["extras"]["cera_sensitivity"]))
+for name, spec in sorted((snakemake.config.get("measured") or {}).items()):
+    folder = f"measured/{name}/"
+    paths = {Path(f).name: Path(f) for f in snakemake.input.outputs if folder in str(f)}
+    modes = pd.read_csv(paths["modes.csv"])
+    extras.append(dict(
+        heading=f"Measured record '{name}': modes from the stabilisation diagram",
+        png=paths["stabilisation.png"], frame=modes.round(4),
+        caption=(f"{spec['path']} ({spec['excitation'].replace('_', ' ')}): stabilisation diagram over the "
+                 "spectrum; the table lists the modes selected automatically (stable poles clustered; mean and "
+                 "std of frequency and damping, pole count, MPC, MAMC), as `modal identify` writes them."),
+    ))
 template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
 default = yaml.safe_load(Path(snakemake.params.default_config).read_text(encoding="utf-8"))
 provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.config, snakemake.params.configfiles)
