@@ -54,6 +54,7 @@ rule report_html:
         captions=CAPTIONS,
         summary=SUMMARY,
         outputs=report_inputs(),
+        default_config="config/config.yaml",
     output:
         report(res("report.html"), caption="../report/report.rst", category="Summary"),
     log:
@@ -66,6 +67,5 @@ rule report_html:
         titles=TABLE_TITLES,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
         run=RUN,
-        default_config="config/config.yaml",
     script:
         "../scripts/report_html.py"

@@ -42,7 +42,7 @@ for name, spec in sorted((snakemake.config.get("measured") or {}).items()):
                  "std of frequency and damping, pole count, MPC, MAMC), as `modal identify` writes them."),
     ))
 template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
-default = yaml.safe_load(Path(snakemake.params.default_config).read_text(encoding="utf-8"))
+default = yaml.safe_load(Path(snakemake.input.default_config).read_text(encoding="utf-8"))
 provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.config, snakemake.params.configfiles)
 provenance["run"] = snakemake.params.run
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
