@@ -30,12 +30,6 @@ from .grid import Grid
 from .signals import amplitude_spectrum, lowpass_fft
 from .simulate import Record, add_noise
 
-#: Default accelerometer crossings (crossing c = row c // 4 from the top,
-#: column c % 4 from the left, of the default 4 x 5 grid): eleven of twenty,
-#: spread over the grid, none on its vertical centre line.
-DEFAULT_SENSORS = (0, 3, 5, 6, 8, 11, 13, 14, 16, 18, 19)
-#: Default excitation: the lower right corner crossing.
-DEFAULT_FORCE_NODES = (19,)
 
 
 @dataclass(frozen=True)
@@ -202,18 +196,19 @@ def force_burst(n_samples, n_nodes, dt, seed=0, rms=1.0, cutoff_hz=None) -> np.n
 
 def shake_test(
     grid: Grid,
-    sensors=DEFAULT_SENSORS,
-    force_nodes=DEFAULT_FORCE_NODES,
-    burst=3.0,
-    force_rms=1.0,
+    *,
+    sensors,
+    force_nodes,
+    burst,
+    force_rms,
+    damping,
+    lag,
+    n_samples,
+    fs,
     force_cutoff_hz=None,
-    damping=0.005,
-    lag=10.0,
-    n_samples=4096,
-    fs=200.0,
     noise=0.0,
     seed=0,
-    fmax_hz=50.0,
+    fmax_hz=None,
     n_modes=None,
 ) -> ShakeTest:
     """Shake the grid, wait, record (thesis Sec. 7.1-7.2).
@@ -226,6 +221,10 @@ def shake_test(
     samples at ``fs`` Hz from accelerometers at ``sensors``; sensor noise is
     Gaussian with standard deviation ``noise`` times each channel's RMS
     (:func:`modal.add_noise`).
+
+    Every setting of the test itself is a required keyword: the thesis's
+    test is stated once, in the workflow's config (``grid.test``), with the
+    reasons for its values.
 
     Parameters
     ----------
@@ -242,10 +241,8 @@ def shake_test(
         Band-limit the force with the thesis's FFT filter.
     damping : float or sequence of float
         Modal damping ratio(s); modes beyond a list take its last value.
-        The default 0.5 % keeps the 6.5 Hz mode visible after the 10 s lag
-        and through the 20.48 s record, as in the thesis's spectra (its
-        amplitude decays by ``exp(-zeta omega t)``: 0.07 at the start of
-        the record with 0.5 %, 0.005 with 1 %).
+        A mode's amplitude decays by ``exp(-zeta omega t)`` over the lag
+        and the record.
     lag : float
         Collection lag after the burst (s), rounded to whole samples (>= 0).
     n_samples : int
@@ -253,14 +250,15 @@ def shake_test(
     fs : float
         Sampling rate (200 Hz in the thesis).
     noise : float
-        Sensor noise ratio ``eta`` (0.05 = 5 %).
+        Sensor noise ratio ``eta`` (0.05 = 5 %); default none.
     seed : int
         Seeds the force (first) and the noise (second) streams of
         ``numpy.random.SeedSequence(seed)``.
-    fmax_hz : float or None
+    fmax_hz : float, optional
         Keep the modes at or below this frequency.
     n_modes : int, optional
-        Keep at most the lowest ``n_modes``.
+        Keep at most the lowest ``n_modes``. With neither, every mode of
+        the model responds.
 
     Returns
     -------

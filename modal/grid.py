@@ -7,7 +7,7 @@ four lowest modes, 0.83, 1.76, 4.35 and 6.49 Hz (Tables 10-12). Its records
 and drawings are not public, so :class:`Grid` is a virtual stand-in built to
 match those four frequencies with physically plausible dimensions.
 
-Layout (the defaults of :class:`Grid`, tuned as below)::
+Layout (the tuned grid of the thesis workflow, below)::
 
       I-beam (clamp)  x-----x-----x-----x     y = 0.80 m
                       |     |     |     |
@@ -44,7 +44,8 @@ torsion), with ``N`` from the weight hanging below on each vertical strip
 (horizontal strips and crossing masses shared by tributary length). Set
 ``gravity=0`` to drop it.
 
-Tuned values (defaults of :class:`Grid`, also the ``grid.model`` block of ``config/config.yaml``):
+Tuned values (set in one place, the ``grid.model`` block of the workflow's
+``config/config.yaml``; :class:`Grid` has no defaults for them):
 aluminium ``E = 70 GPa``, ``nu = 0.33``, ``rho = 2700 kg/m^3``, ``g = 9.81``;
 grid 1.00 m wide and 0.80 m high; vertical strips 50 mm x 1.2 mm, horizontal
 strips 16 mm x 2.9 mm at y = 0.37, 0.24, 0.14, 0.07, 0 m; 67 g at every
@@ -79,10 +80,6 @@ import numpy as np
 import scipy.linalg
 
 from ._checks import nonnegative_float, positive_float, positive_int
-
-#: Estimated frequencies (Hz) of the grid's four lowest modes, thesis Tables 10-12.
-THESIS_ESTIMATES_HZ = (0.83, 1.76, 4.35, 6.49)
-
 
 def _stack(rows) -> np.ndarray:
     """``rows`` of per-element arrays -> ``(n_elements, n, n)``."""
@@ -130,7 +127,7 @@ def _bar(stiffness, inertia, L):
     return k, m
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class Grid:
     """Planar grid of thin strips, clamped along its top edge (thesis Sec. 7.1).
 
@@ -148,12 +145,16 @@ class Grid:
     thickness : float
         Thickness ``t`` of the vertical strips (m).
     thickness_horizontal : float, optional
-        Thickness of the horizontal strips; default ``thickness``.
+        Thickness of the horizontal strips; default (None) ``thickness``.
     strip_width_horizontal : float, optional
-        Width of the horizontal strips; default ``strip_width``.
+        Width of the horizontal strips; default (None) ``strip_width``.
     horizontal_y : tuple of float, optional
         Heights (m) of the ``n_horizontal`` horizontal strips, strictly
-        decreasing, ``height > y >= 0``; default equal spacing.
+        decreasing, ``height > y >= 0``; default (None) equal spacing.
+
+    All other parameters are keyword-only and required: the model of a
+    particular grid is stated in full where it is used (the thesis's tuned
+    grid in the workflow's config, ``grid.model``).
     youngs_modulus, poisson, density : float
         ``E`` (Pa), ``nu`` (``G = E / (2 (1 + nu))``), ``rho`` (kg/m^3).
     elements_per_bay : int
@@ -168,21 +169,21 @@ class Grid:
         vertical strips; 0 drops the geometric stiffness.
     """
 
-    width: float = 1.00
-    height: float = 0.80
-    n_vertical: int = 4
-    n_horizontal: int = 5
-    strip_width: float = 0.050
-    thickness: float = 0.0012
-    thickness_horizontal: float | None = 0.0029
-    strip_width_horizontal: float | None = 0.016
-    horizontal_y: tuple[float, ...] | None = (0.37, 0.24, 0.14, 0.07, 0.0)
-    youngs_modulus: float = 70e9
-    poisson: float = 0.33
-    density: float = 2700.0
-    elements_per_bay: int = 4
-    sensor_mass: float = 0.067
-    gravity: float = 9.81
+    width: float
+    height: float
+    n_vertical: int
+    n_horizontal: int
+    strip_width: float
+    thickness: float
+    youngs_modulus: float
+    poisson: float
+    density: float
+    elements_per_bay: int
+    sensor_mass: float
+    gravity: float
+    thickness_horizontal: float | None = None
+    strip_width_horizontal: float | None = None
+    horizontal_y: tuple[float, ...] | None = None
 
     def __post_init__(self):
         for name in ("width", "height", "strip_width", "thickness", "youngs_modulus", "density"):

@@ -155,7 +155,7 @@ def test_signals_bad_input(y):
         modal.integrate_acceleration(with_nan(y), DT)
 
 
-def test_more_bad_input(y, tmp_path):
+def test_more_bad_input(y, tmp_path, thesis_grid_config):
     with pytest.raises(ValueError, match="y contains NaN"):
         modal.hankel(with_nan(y), 3, 4)
     with pytest.raises(ValueError, match="dt"):
@@ -172,4 +172,4 @@ def test_more_bad_input(y, tmp_path):
     with pytest.raises(ValueError, match="contradicts"):
         modal.load_record(path)
     with pytest.raises(ValueError, match="seed"):
-        modal.shake_test(modal.Grid(), seed=1.5)
+        modal.shake_test(modal.Grid(**thesis_grid_config["model"]), **thesis_grid_config["test"], seed=1.5)

@@ -21,23 +21,35 @@ from modal.grid import Grid
 
 
 @pytest.fixture(scope="module")
-def grid():
-    return Grid()
+def model(thesis_grid_config):
+    """The tuned grid's parameters (config ``grid.model``)."""
+    return thesis_grid_config["model"]
 
 
 @pytest.fixture(scope="module")
-def noisy(grid):
+def grid(model):
+    return Grid(**model)
+
+
+@pytest.fixture(scope="module")
+def settings(thesis_grid_config):
+    """The thesis's shaking test (config ``grid.test``) without sensor noise."""
+    return {k: v for k, v in thesis_grid_config["test"].items() if k != "noise"}
+
+
+@pytest.fixture(scope="module")
+def noisy(grid, settings):
     """The thesis's measurement: 10 s lag, 4096 samples at 200 Hz, 11 sensors, 2 % noise."""
-    return shake_test(grid, noise=0.02, seed=1)
+    return shake_test(grid, **settings, noise=0.02, seed=1)
 
 
 # ---------------------------------------------------------------- the model
-def test_strips_alone_are_euler_bernoulli_cantilevers():
+def test_strips_alone_are_euler_bernoulli_cantilevers(model):
     # Horizontal strips of negligible stiffness and mass, no gravity, no sensor
     # masses: each vertical strip is a clamped-free beam of length `height`,
     # f_k = (beta_k L)^2 / (2 pi L^2) sqrt(EI / (rho A)), four times over.
-    grid = Grid(gravity=0, sensor_mass=0, n_horizontal=24, horizontal_y=None,
-                thickness_horizontal=1e-7, strip_width_horizontal=1e-4, elements_per_bay=1)
+    grid = Grid(**{**model, "gravity": 0, "sensor_mass": 0, "n_horizontal": 24, "horizontal_y": None,
+                   "thickness_horizontal": 1e-7, "strip_width_horizontal": 1e-4, "elements_per_bay": 1})
     b, t = grid.section(0)
     ei, rho_a = grid.youngs_modulus * b * t**3 / 12, grid.density * b * t
     beta_l = np.array([1.87510407, 4.69409113, 7.85475744])
@@ -50,11 +62,11 @@ def test_modes_above_10_hz(grid):
     assert np.sum(omega / (2 * np.pi) > 10) >= 5
 
 
-def test_matrices_symmetric_positive_definite(grid):
+def test_matrices_symmetric_positive_definite(model, grid):
     for name, a in (("K", grid.stiffness()), ("M", grid.mass())):
         assert np.allclose(a, a.T, rtol=0, atol=1e-13 * np.abs(a).max()), name
         scipy.linalg.cholesky(a)  # raises LinAlgError unless positive definite
-    scipy.linalg.cholesky(Grid(gravity=0).stiffness())  # elastic part alone
+    scipy.linalg.cholesky(Grid(**{**model, "gravity": 0}).stiffness())  # elastic part alone
 
 
 def test_modes_are_mass_normalised_and_complete(grid):
@@ -70,14 +82,14 @@ def test_modes_are_mass_normalised_and_complete(grid):
     np.testing.assert_allclose((phi / omega**2) @ (phi.T @ f), static, atol=1e-6 * np.abs(static).max())
 
 
-def test_mesh_convergence():
-    coarse = Grid(elements_per_bay=4).frequencies_hz(4)
-    fine = Grid(elements_per_bay=8).frequencies_hz(4)
+def test_mesh_convergence(model):
+    coarse = Grid(**{**model, "elements_per_bay": 4}).frequencies_hz(4)
+    fine = Grid(**{**model, "elements_per_bay": 8}).frequencies_hz(4)
     assert np.max(np.abs(fine / coarse - 1)) < 0.01
 
 
-def test_gravity_stiffens_the_hanging_grid():
-    assert Grid(gravity=0).frequencies_hz(1)[0] < 0.7 * Grid().frequencies_hz(1)[0]
+def test_gravity_stiffens_the_hanging_grid(model, grid):
+    assert Grid(**{**model, "gravity": 0}).frequencies_hz(1)[0] < 0.7 * grid.frequencies_hz(1)[0]
 
 
 def test_crossings_and_dofs(grid):
@@ -112,9 +124,9 @@ def test_foh_integration_matches_solve_ivp(grid):
     assert np.max(np.abs(sol.y[4:].T - v)) < 1e-7 * np.max(np.abs(v))
 
 
-def test_shake_test_matches_solve_ivp(grid):
+def test_shake_test_matches_solve_ivp(grid, settings):
     """Burst, lag and record end to end, against DOP853 (relative 1e-7)."""
-    st = shake_test(grid, burst=0.1, lag=0.05, n_samples=20, n_modes=3, seed=4)
+    st = shake_test(grid, **{**settings, "burst": 0.1, "lag": 0.05, "n_samples": 20, "fmax_hz": None}, n_modes=3, seed=4)
     omega, zeta, dt = st.omega, st.damping, st.dt
     phi_f = grid.modes(3)[1][grid.dof(19)]
     force = np.vstack([st.force, 0.0])[:, 0]
@@ -134,15 +146,15 @@ def test_shake_test_matches_solve_ivp(grid):
     np.testing.assert_allclose(st.velocity, v @ st.shapes.T, atol=1e-7 * np.abs(v).max())
 
 
-def test_shake_test_layout(grid, noisy):
+def test_shake_test_layout(grid, settings, noisy):
     assert noisy.acceleration.shape == (4096, 11)
     assert noisy.dt == 1 / 200 and noisy.t[-1] == pytest.approx(20.475)
     assert noisy.t_start == pytest.approx(13.0)
     assert noisy.nodes.size == 11 and noisy.shapes.shape == (11, noisy.omega.size)
     assert noisy.freq_hz.max() <= 50 and np.sum(noisy.freq_hz > 10) >= 5
-    again = shake_test(grid, noise=0.02, seed=1)
+    again = shake_test(grid, **settings, noise=0.02, seed=1)
     np.testing.assert_array_equal(again.acceleration, noisy.acceleration)
-    other = shake_test(grid, noise=0.02, seed=2)
+    other = shake_test(grid, **settings, noise=0.02, seed=2)
     assert not np.allclose(other.acceleration, noisy.acceleration)
     # The noise is eta x channel RMS.
     resid = noisy.acceleration - noisy.clean_acceleration
@@ -150,9 +162,9 @@ def test_shake_test_layout(grid, noisy):
     np.testing.assert_allclose(resid.std(axis=0) / rms, 0.02, rtol=0.1)
 
 
-def test_era_is_exact_on_a_noise_free_virtual_test(grid):
+def test_era_is_exact_on_a_noise_free_virtual_test(grid, settings):
     """Free decay of the modes kept, no filter: ERA recovers them to 1e-6."""
-    st = shake_test(grid, noise=0.0, fmax_hz=10.0)
+    st = shake_test(grid, **{**settings, "fmax_hz": 10.0})
     assert st.omega.size == 5
     result = modal.era(st.acceleration, st.dt, st.omega.size, rows=8, cols=400)
     np.testing.assert_allclose(np.sort(result.omega), st.omega, rtol=1e-6)
@@ -181,7 +193,7 @@ def test_pick_peaks_finds_the_four_lowest(noisy):
 
 
 # ---------------------------------------------------------------- bad input
-def test_bad_input(grid, noisy):
+def test_bad_input(grid, settings, noisy):
     acc, dt = noisy.acceleration, noisy.dt
     bad = acc.copy()
     bad[100, 3] = np.nan
@@ -196,7 +208,7 @@ def test_bad_input(grid, noisy):
     with pytest.raises(ValueError, match="Nyquist"):
         modal.lowpass_fft(acc, dt, 150.0)
     with pytest.raises(ValueError, match="Nyquist"):
-        shake_test(grid, force_cutoff_hz=150.0)
+        shake_test(grid, **settings, force_cutoff_hz=150.0)
     with pytest.raises(ValueError, match="n_sets"):
         modal.split_record(acc, acc.shape[0])
     with pytest.raises(ValueError, match="one sensor per mode"):
@@ -207,24 +219,24 @@ def test_bad_input(grid, noisy):
         pick_peaks(acc, dt, n_peaks=50, fmax=7.5)
 
 
-def test_bad_parameters(grid):
+def test_bad_parameters(model, grid, settings):
     with pytest.raises(ValueError, match="thickness"):
-        Grid(thickness=-1e-3)
+        Grid(**{**model, "thickness": -1e-3})
     with pytest.raises(ValueError, match="horizontal_y"):
-        Grid(horizontal_y=(0.1, 0.2, 0.3, 0.4, 0.5))
+        Grid(**{**model, "horizontal_y": (0.1, 0.2, 0.3, 0.4, 0.5)})
     with pytest.raises(ValueError, match="poisson"):
-        Grid(poisson=0.5)
+        Grid(**{**model, "poisson": 0.5})
     with pytest.raises(ValueError, match="clamped"):
-        shake_test(grid, sensors=[int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])])
+        shake_test(grid, **{**settings, "sensors": [int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])]})
     with pytest.raises(ValueError, match="node"):
-        shake_test(grid, force_nodes=[10_000])
+        shake_test(grid, **{**settings, "force_nodes": [10_000]})
     with pytest.raises(ValueError, match="damping"):
-        shake_test(grid, damping=1.5)
+        shake_test(grid, **{**settings, "damping": 1.5})
     with pytest.raises(ValueError, match="distinct"):
-        shake_test(grid, sensors=[0, 0])
+        shake_test(grid, **{**settings, "sensors": [0, 0]})
     with pytest.raises(ValueError, match="fmax_hz"):
-        shake_test(grid, fmax_hz=0.1)
+        shake_test(grid, **{**settings, "fmax_hz": 0.1})
     with pytest.raises(ValueError, match="grid"):
-        shake_test("grid")
+        shake_test("grid", **settings)
     with pytest.raises(ValueError, match="force_rms"):
         force_burst(10, 1, 0.005, rms=0)

@@ -13,7 +13,7 @@ import pandas as pd
 
 from ..era import era
 from ..experiment import pick_peaks, select_sharpest, sharpness, shake_test
-from ..grid import THESIS_ESTIMATES_HZ, Grid
+from ..grid import Grid
 from ..io import load_record
 from ..result import FLAGS
 from ..signals import lowpass_fft, split_record
@@ -40,6 +40,19 @@ class GridRecord:
 def grid_model(spec: Mapping) -> Grid:
     """The finite-element grid of ``spec["model"]``."""
     return Grid(**spec["model"])
+
+
+def model_against_estimates(number: int, published: pd.DataFrame, spec: Mapping):
+    """``(model_hz, estimates_hz)`` for the table whose finding is the grid
+    model (Table 10): the model's lowest natural frequencies and the thesis's
+    "est." column of ``published`` (that table's published rows), one per
+    estimate; ``(None, None)`` for every other table and for a measured record."""
+    if spec["source"] != "virtual" or spec["tables"][number].get("finding") != "model":
+        return None, None
+    estimates = published[published["method"] == "est"].sort_values("mode")["value"].to_numpy(float)
+    if estimates.size == 0:
+        raise ValueError(f"published: Table {number} has no 'est' rows to compare the grid model with")
+    return grid_model(spec).frequencies_hz(estimates.size), estimates
 
 
 def grid_records(spec: Mapping, chunk: int | None = None) -> dict[int, GridRecord]:
@@ -262,16 +275,24 @@ def _mean_abs_err(identified, case, run, method, n=None):
 
 
 def grid_notes(number: int, table: pd.DataFrame, identified: pd.DataFrame, spec: Mapping,
-               model_hz=None) -> list[str]:
-    """Computed notes under a grid table: the model's frequencies against the
-    thesis's estimates, and the thesis's qualitative findings, each stated as
-    reproduced or not (errors against the virtual grid's true frequencies)."""
+               model_hz=None, estimates_hz=None) -> list[str]:
+    """Computed notes under a grid table: the model's frequencies
+    ``model_hz`` against the thesis's estimates ``estimates_hz`` (its "est."
+    column, from the published tables; both or neither), and the thesis's
+    qualitative findings, each stated as reproduced or not (errors against the
+    virtual grid's true frequencies)."""
     notes = []
     virtual = spec["source"] == "virtual"
+    if (model_hz is None) != (estimates_hz is None):
+        raise ValueError("model_hz and estimates_hz: give both or neither")
     if model_hz is not None:
-        dev = np.asarray(model_hz) / np.asarray(THESIS_ESTIMATES_HZ) - 1
+        estimates_hz = [float(e) for e in estimates_hz]
+        if len(estimates_hz) != len(model_hz):
+            raise ValueError(f"estimates_hz: expected {len(model_hz)} estimates, one per model frequency, "
+                             f"got {len(estimates_hz)}")
+        dev = np.asarray(model_hz) / np.asarray(estimates_hz) - 1
         notes.append("Grid model, four lowest frequencies: " + ", ".join(
-            f"{f:.3f} Hz ({100 * d:+.1f} % from {e})" for f, d, e in zip(model_hz, dev, THESIS_ESTIMATES_HZ))
+            f"{f:.3f} Hz ({100 * d:+.1f} % from {e})" for f, d, e in zip(model_hz, dev, estimates_hz))
             + f"; all within 5 %: {'yes' if np.all(np.abs(dev) <= 0.05) else 'no'}.")
     n_seeds = identified["seed"].nunique()
     notes.append(f"Reproduced = mean over {n_seeds} {'virtual shaking tests (seeds)' if virtual else 'record(s)'}; "

@@ -80,6 +80,26 @@ def read_identified(path, study: Mapping, seeds: Mapping) -> pd.DataFrame:
     return frame
 
 
+def read_interpretations(paths, interpretations, study: Mapping, seeds: Mapping) -> dict[str, pd.DataFrame]:
+    """Each interpretation's identified modes of one beam study, checked
+    (:func:`read_identified`), keyed by interpretation.
+
+    Parameters
+    ----------
+    paths : sequence of path-like
+        ``results/identified/{study}_{interpretation}.csv``, one per entry of
+        ``interpretations``, in the same order.
+    interpretations : sequence of str
+        ``config["studies"][name]["interpretations"]``.
+    study, seeds : mapping
+        As for :func:`read_identified`.
+    """
+    paths, interpretations = list(paths), list(interpretations)
+    if len(paths) != len(interpretations):
+        raise ValueError(f"paths: expected one file per interpretation {interpretations}, got {len(paths)}")
+    return {i: read_identified(path, study, seeds) for i, path in zip(interpretations, paths)}
+
+
 def read_grid_identified(path, spec: Mapping, seeds=None) -> pd.DataFrame:
     """The grid chapter's identified modes, checked: every seed (virtual
     test) x every (case, run) that ``spec["runs"]`` asks for.

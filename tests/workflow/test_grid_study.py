@@ -89,16 +89,26 @@ def test_bad_input(spec):
         gs.choose_accelerometers(rec, {**spec, "accelerometers": [0, 11]})
 
 
-def test_config_block_matches_the_defaults():
-    # the workflow's grid is the tuned model (the defaults), shaken as shake_test's defaults say
+def test_thesis_grid_is_stated_only_in_config():
+    # config.yaml is the one source of the tuned grid and of its shaking
+    # test: the engine repeats none of their values as a default.
     block = CONFIG["grid"]
-    assert Grid(**block["model"]) == Grid()
-    defaults = {k: p.default for k, p in inspect.signature(shake_test).parameters.items()}
-    for key, value in block["test"].items():
-        if key == "noise":
-            continue
-        expected = defaults[key]
-        assert (list(expected) if isinstance(expected, tuple) else expected) == value, key
+    for function, settings in ((Grid, block["model"]), (shake_test, block["test"])):
+        parameters = inspect.signature(function).parameters
+        for key, value in settings.items():
+            default = parameters[key].default
+            assert default is inspect.Parameter.empty or default != value, f"{function.__name__}({key}=...)"
+
+
+def test_model_note_compares_with_the_published_estimates(spec):
+    published = pd.read_csv(ROOT / "config/thesis_tables.csv")
+    published = published[published["table"] == 10]
+    model_hz, estimates = gs.model_against_estimates(10, published, spec)
+    np.testing.assert_array_equal(estimates, [0.83, 1.76, 4.35, 6.49])  # thesis Table 10, "est."
+    np.testing.assert_allclose(model_hz, [0.825, 1.778, 4.410, 6.467], atol=6e-4)  # README, modal/grid.py
+    assert gs.model_against_estimates(11, published, spec) == (None, None)
+    with pytest.raises(ValueError, match="no 'est' rows"):
+        gs.model_against_estimates(10, published[published["method"] != "est"], spec)
 
 
 def test_measured_record_that_cannot_fill_the_tables_is_refused(spec, tmp_path):

@@ -18,7 +18,7 @@ import pytest
 import yaml
 
 import modal.thesis.config as mc
-from modal.thesis.intermediates import read_grid_identified, read_identified, read_selection
+from modal.thesis.intermediates import read_grid_identified, read_identified, read_interpretations, read_selection
 from workflow_run import ROOT, SMALL_CONFIG_FILE, copy_project, run_snakemake
 
 SCHEMA = ROOT / "workflow/schemas/config.schema.yaml"
@@ -282,6 +282,20 @@ def test_corrupt_identified_file_is_refused_naming_it(small_workflow, tmp_path, 
     with pytest.raises(ValueError, match=str(bad)) as err:
         read_identified(bad, config["studies"]["demo"], seeds)
     assert fragment in str(err.value)
+
+
+def test_interpretations_read_together_each_checked(small_workflow, tmp_path):
+    config = yaml.safe_load((ROOT / "config/config.yaml").read_text())
+    demo, seeds = config["studies"]["demo"], {"first": 0, "count": 3}
+    files = [small_workflow / f"results/identified/demo_{i}.csv" for i in ("named", "lower")]
+    frames = read_interpretations(files, ["named", "lower"], demo, seeds)
+    assert list(frames) == ["named", "lower"]
+    assert frames["lower"].equals(read_identified(files[1], demo, seeds))
+    bad = _rewrite(files[1], tmp_path / "demo_lower.csv", lambda f: f[f["method"] != "tcm"])
+    with pytest.raises(ValueError, match=str(bad)):
+        read_interpretations([files[0], bad], ["named", "lower"], demo, seeds)
+    with pytest.raises(ValueError, match="one file per interpretation"):
+        read_interpretations(files[:1], ["named", "lower"], demo, seeds)
 
 
 def test_corrupt_grid_files_are_refused_naming_them(small_workflow, tmp_path):

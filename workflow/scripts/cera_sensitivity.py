@@ -8,9 +8,9 @@ if "snakemake" not in globals():
     snakemake = mock_snakemake("cera_sensitivity")
 start_job(snakemake)
 
-frames = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["cera"],
-                                                        snakemake.config["seeds"])
-          for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+frames = modal.thesis.intermediates.read_interpretations(
+    snakemake.input.identified, snakemake.params.interpretations, snakemake.config["studies"]["cera"],
+    snakemake.config["seeds"])
 table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
 panels = {case: f"Table {number}. {title}" for number, (case, title) in sorted(snakemake.params.tables.items())}

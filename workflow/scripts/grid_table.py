@@ -14,11 +14,10 @@ spec = snakemake.params.spec
 published = modal.thesis.tables.read_published(snakemake.input.published)
 identified = modal.thesis.intermediates.read_grid_identified(snakemake.input.identified, spec)
 selection = modal.thesis.intermediates.read_selection(snakemake.input.selection, spec)
-table = gs.grid_table(number, published[published["table"] == number], identified, selection, spec,
-                      snakemake.params.first_seed)
+published = published[published["table"] == number]
+table = gs.grid_table(number, published, identified, selection, spec, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
-model = spec["source"] == "virtual" and spec["tables"][number].get("finding") == "model"
-notes = gs.grid_notes(number, table, identified, spec, gs.grid_model(spec).frequencies_hz(4) if model else None)
+notes = gs.grid_notes(number, table, identified, spec, *gs.model_against_estimates(number, published, spec))
 modal.thesis.report.write_notes(snakemake.output.notes, notes)
 source = "virtual grid" if spec["source"] == "virtual" else "measured record"
 with open(snakemake.output.md, "w") as fh:

@@ -7,9 +7,9 @@ if "snakemake" not in globals():
     snakemake = mock_snakemake("noise_figures")
 start_job(snakemake)
 
-identified = {i: modal.thesis.intermediates.read_identified(f, snakemake.config["studies"]["noise"],
-                                                            snakemake.config["seeds"])
-              for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+identified = modal.thesis.intermediates.read_interpretations(
+    snakemake.input.identified, snakemake.params.interpretations, snakemake.config["studies"]["noise"],
+    snakemake.config["seeds"])
 for path, (number, mode) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
     title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
     modal.thesis.plots.noise_figure(identified, mode, title).savefig(path, dpi=120)

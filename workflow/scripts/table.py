@@ -11,8 +11,8 @@ start_job(snakemake)
 number = int(snakemake.wildcards.number)
 published = modal.thesis.tables.read_published(snakemake.input.published)
 study = snakemake.config["studies"][snakemake.params.spec["study"]]
-identified = {i: modal.thesis.intermediates.read_identified(f, study, snakemake.config["seeds"])
-              for i, f in zip(snakemake.params.interpretations, snakemake.input.identified)}
+identified = modal.thesis.intermediates.read_interpretations(
+    snakemake.input.identified, snakemake.params.interpretations, study, snakemake.config["seeds"])
 table = modal.thesis.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
                                     snakemake.params.methods, snakemake.params.first_seed)
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
