@@ -19,7 +19,7 @@ from ..result import FLAGS
 from ..signals import lowpass_fft, split_record
 from .chunks import chunk_seeds
 from .study import flags_recorded
-from .tables import aggregate, decimals, inclusion_holds, match_to_reference
+from .tables import aggregate, decimals, inclusion_holds, match_to_reference, published_estimates
 from ..tcm import tcm
 
 
@@ -45,13 +45,11 @@ def grid_model(spec: Mapping) -> Grid:
 def model_against_estimates(number: int, published: pd.DataFrame, spec: Mapping):
     """``(model_hz, estimates_hz)`` for the table whose finding is the grid
     model (Table 10): the model's lowest natural frequencies and the thesis's
-    "est." column of ``published`` (that table's published rows), one per
-    estimate; ``(None, None)`` for every other table and for a measured record."""
+    "est." column of that table in ``published``, one per estimate;
+    ``(None, None)`` for every other table and for a measured record."""
     if spec["source"] != "virtual" or spec["tables"][number].get("finding") != "model":
         return None, None
-    estimates = published[published["method"] == "est"].sort_values("mode")["value"].to_numpy(float)
-    if estimates.size == 0:
-        raise ValueError(f"published: Table {number} has no 'est' rows to compare the grid model with")
+    estimates = published_estimates(published, number)
     return grid_model(spec).frequencies_hz(estimates.size), estimates
 
 

@@ -19,6 +19,19 @@ STYLES = {0: "-", 1: "--", 2: ":"}
 SECOND = {"tcm": "D", "era": "+", "cera": "^"}
 
 
+def figure_titles(captions: Mapping[int, str]):
+    """``title(number)``: "Figure N. caption", the caption from
+    ``workflow/report/captions.yaml`` (drawn on the figure, printed under it)."""
+    return lambda number: f"Figure {int(number)}. {captions[int(number)]}"
+
+
+def numbered(figures: Mapping, captions: Mapping[int, str]) -> list[tuple[str, object]]:
+    """``figures`` (number -> what to draw) as ``(title, what)`` pairs in
+    figure order, one per output file."""
+    title = figure_titles(captions)
+    return [(title(number), what) for number, what in sorted(figures.items(), key=lambda kv: int(kv[0]))]
+
+
 def _shape_columns(frame):
     return [c for c in frame.columns if c.startswith("phi_")]
 

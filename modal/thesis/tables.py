@@ -42,6 +42,15 @@ def read_table(path) -> pd.DataFrame:
 read_published = read_table
 
 
+def published_estimates(published: pd.DataFrame, number: int) -> np.ndarray:
+    """The thesis's "est." column of grid Table ``number`` (Hz, by mode): the
+    frequencies it read off the spectra (0.83, 1.76, 4.35, 6.49 in Table 10)."""
+    rows = published[(published["table"] == number) & (published["method"] == "est")]
+    if rows.empty:
+        raise ValueError(f"published: Table {number} has no 'est' rows")
+    return rows.sort_values("mode")["value"].to_numpy(float)
+
+
 def decimals(printed: str) -> int:
     """Digits after the point in a printed number (``".79"`` -> 2)."""
     return len(printed.split(".")[1]) if "." in printed else 0

@@ -20,10 +20,7 @@ selection = modal.thesis.intermediates.read_selection(snakemake.input.selection,
 chosen = selection[selection["seed"] == selection["seed"].min()].sort_values("rank")["channel"].to_numpy()
 acc, dt = rec["acceleration"][:, chosen], float(rec["dt"])
 
-
-def title(number):
-    return f"Figure {number}. {captions[number]}"
-
+title = plots.figure_titles(captions)
 
 layout = numbers["layout"]
 if spec["source"] == "virtual":
@@ -36,8 +33,7 @@ fig.savefig(paths[layout], dpi=110)
 # the spectra mark our peak-picked "est." frequencies and the thesis's (the first grid table's est column)
 picked = selection[selection["seed"] == selection["seed"].min()].sort_values("rank")["est_hz"].dropna().to_numpy()
 published = modal.thesis.tables.read_published(snakemake.input.published)
-estimates = published[(published["method"] == "est") & (published["table"] == min(spec["tables"]))]
-thesis_hz = estimates.sort_values("mode")["value"].dropna().to_numpy()
+thesis_hz = modal.thesis.tables.published_estimates(published, min(spec["tables"]))
 for k, number in enumerate(numbers["responses"]):
     plots.response_figure(acc[:, [k]], dt, [k + 1], title(number), peaks_hz=picked,
                           thesis_hz=thesis_hz).savefig(paths[number], dpi=110)

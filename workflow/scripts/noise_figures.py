@@ -10,6 +10,6 @@ start_job(snakemake)
 identified = modal.thesis.intermediates.read_interpretations(
     snakemake.input.identified, snakemake.params.interpretations, snakemake.config["studies"]["noise"],
     snakemake.config["seeds"])
-for path, (number, mode) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
-    title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
+for path, (title, mode) in zip(snakemake.output, modal.thesis.plots.numbered(snakemake.params.figures,
+                                                                           snakemake.params.captions)):
     modal.thesis.plots.noise_figure(identified, mode, title).savefig(path, dpi=120)

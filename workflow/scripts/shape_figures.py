@@ -10,7 +10,7 @@ start_job(snakemake)
 identified = modal.thesis.intermediates.read_interpretations(
     snakemake.input.identified, snakemake.params.interpretations, snakemake.config["studies"]["demo"],
     snakemake.config["seeds"])
-for path, (number, fig) in zip(snakemake.output, sorted(snakemake.params.figures.items(), key=lambda kv: int(kv[0]))):
-    title = f"Figure {int(number)}. {snakemake.params.captions[int(number)]}"
+for path, (title, fig) in zip(snakemake.output, modal.thesis.plots.numbered(snakemake.params.figures,
+                                                                          snakemake.params.captions)):
     modal.thesis.plots.shape_figure(snakemake.params.beam, identified, fig["case"], fig["method"],
                                     snakemake.params.first_seed, title).savefig(path, dpi=120)
