@@ -323,7 +323,8 @@ def eigen_poles(phi, output, states):
     real = np.abs(z.imag) <= REAL_POLE_TOL * np.abs(z)
     keep = real | (z.imag > 0)
     complex_shapes = output @ psi[:, keep]  # Eq. (45)
-    rows = np.linalg.inv(psi)[keep]
+    # the kept rows of psi^{-1}: solve psi^T X = the kept columns of I
+    rows = np.linalg.solve(psi.T, np.eye(len(z))[:, keep]).T
     n = len(rows)  # states is real: two real products instead of one complex
     stacked = np.concatenate([rows.real, rows.imag]) @ states
     histories = stacked[:n] + 1j * stacked[n:]
