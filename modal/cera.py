@@ -6,7 +6,8 @@ import numpy as np
 
 from ._checks import positive_float, positive_int, records, unit_scale
 from .hankel import hankel
-from .result import ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 
 
 def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
@@ -89,4 +90,5 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
         singular_values=sv * scale,
         eigenvalues=c["lam"],
     )
+    warn_not_free_response(result, y[:, start:], dt)
     return warn_flags(result, cols * dt)

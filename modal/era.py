@@ -7,7 +7,8 @@ import numpy as np
 from ._checks import positive_float, positive_int, records, unit_scale
 from .hankel import hankel
 from .indicators import modal_amplitude_coherence, modal_phase_collinearity
-from .result import UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 
 #: |Im z| below this (relative to |z|) makes an eigenvalue a real pole.
 REAL_POLE_TOL = 1e-10
@@ -83,6 +84,7 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
         )
     result = realise(p, d, qt, h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv * scale,
                      window=(rows + cols) * dt)
+    warn_not_free_response(result, y[:, start:], dt)
     return warn_flags(result, (rows + cols) * dt)
 
 

@@ -6,7 +6,8 @@ import numpy as np
 import scipy.linalg
 
 from ._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
-from .result import ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 from .signals import acceleration_offset, integrate_acceleration
 
 
@@ -98,6 +99,7 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     if n_samples < needed:
         raise ValueError(f"too few samples ({n_samples}) for {l} channels and lag {lag}: need at least {needed}")
     scale = unit_scale(acc)
+    full = acc
     acc = acc[:n_samples] / scale
 
     if lag == 0:
@@ -145,4 +147,5 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
         singular_values=a_eig[::-1] * scale**2,
         eigenvalues=cols["lam"][keep],
     )
+    warn_not_free_response(result, full[None], dt)
     return warn_flags(result, window)

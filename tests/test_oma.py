@@ -263,3 +263,79 @@ def test_stabilisation_equals_per_order_realisations(case):
     np.testing.assert_allclose(fast.pole_shapes, shapes, atol=1e-9)
     assert fast.poles["stable"].sum() > 10 and (~fast.poles["stable"]).sum() > 10
     assert (fast.poles["mamc"] < 0.5).sum() > 0 and (fast.poles["mamc"] > 0.9).sum() > 0
+
+
+# ------------------------------------------------------- methods that assume a free response
+def _free_response_warnings(call):
+    """The free-response ModalWarnings ``call()`` issues (other flags aside)."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        call()
+    return [w for w in caught if issubclass(w.category, modal.ModalWarning) and "free response" in str(w.message)]
+
+
+def test_free_response_growth_of_a_known_envelope():
+    """Whole periods of a sine with amplitude a_i in window i (4 periods each):
+    the window energies are a_i^2 / 2, so the statistic is the sum of their
+    rises over the first: (4 - 1) + (9 - 1) = 11."""
+    from modal.result import free_response_growth
+
+    dt, f = 0.01, 2.5  # 40 samples per period, windows of 160 samples
+    amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
+    t = dt * np.arange(160)
+    y = np.concatenate([a * np.sin(2 * np.pi * f * t) for a in amplitudes])
+    y = np.column_stack([y, 0.5 * y])[None]
+    assert free_response_growth(y, dt, [2 * np.pi * f]) == pytest.approx(11, rel=1e-9)
+    decaying = y * np.exp(-0.2 * np.arange(y.shape[1]) * dt)[None, :, None]
+    assert free_response_growth(decaying, dt, [2 * np.pi * f, 7.0]) == 0.0
+    assert np.isnan(free_response_growth(y[:, :100], dt, [2 * np.pi * f]))  # 100 samples: not two windows
+
+
+@pytest.mark.parametrize("zeta, eta", [(0.0, 0.0), (0.0, 0.05), (0.05, 0.0), (0.02, 0.05), (0.005, 0.03)])
+def test_free_decays_do_not_warn_free_response(zeta, eta):
+    """Impulse responses of the beam off the thesis geometry (sensors at
+    SENSORS_X, impact at 0.37 L), undamped to 5 % damping, noise to 5 %:
+    no method calls them ambient, and the statistic stays far below 1."""
+    from modal.result import free_response_growth
+
+    n = 3
+    omega = BEAM.natural_frequencies(n)
+    dt = 2 * np.pi / omega[-1] / 12
+    rec = modal.beam_impulse_response(BEAM, n, 0.37 * BEAM.length, SENSORS_X[[0, 2, 4]], dt, 2400, zeta)
+    rec = modal.with_noise(rec, eta, seed=3) if eta else rec
+    for signal in (rec.displacement, rec.velocity, rec.acceleration):
+        assert free_response_growth(signal[None], dt, omega) < 0.1
+    assert not _free_response_warnings(lambda: modal.tcm(rec.acceleration, dt, vel=rec.velocity))
+    assert not _free_response_warnings(lambda: modal.cera(rec.acceleration, dt, n, cols=2000))
+    assert not _free_response_warnings(lambda: modal.era(rec.acceleration, dt, n, rows=20, cols=400))
+    assert not _free_response_warnings(lambda: modal.era(rec.acceleration, dt, n, rows=20, cols=400, start=150))
+
+
+def test_ambient_records_warn_free_response():
+    """White-noise-driven beam response and the Palisaden record: TCM, CERA
+    and ERA on the raw record warn, naming the remedy; ERA on the NExT
+    correlation functions of the same record (a free decay) does not."""
+    from modal.result import free_response_growth
+
+    acc, dt, f_exact = ambient_beam(duration_s=30, seed=7)
+    assert free_response_growth(acc[None], dt, 2 * np.pi * f_exact) > 3
+    for call in (lambda: modal.tcm(acc[:, :3], dt), lambda: modal.cera(acc, dt, 3, cols=1000),
+                 lambda: modal.era(acc, dt, 3, rows=20, cols=1000)):
+        (w,) = _free_response_warnings(call)
+        assert "assumes free (or impulse) response" in str(w.message)
+        assert "modal.correlations" in str(w.message) and "modal.stabilisation" in str(w.message)
+    r = modal.correlations(modal.detrend(acc), 201)
+    assert not _free_response_warnings(lambda: modal.era(r, dt, 3, rows=40, cols=120))
+
+    raw, dt = modal.load_record(PALISADEN, fs=20)
+    filtered = modal.zero_phase_filter(modal.detrend(raw), dt, highpass_hz=0.5)
+    for call in (lambda: modal.tcm(filtered, dt), lambda: modal.cera(raw, dt, 3, cols=2000),
+                 lambda: modal.era(filtered, dt, 4, rows=60, cols=600)):
+        assert len(_free_response_warnings(call)) == 1
+    # Unfiltered, ERA fits the record's drift (lowest "modes" near 0.01 Hz):
+    # 30 min hold fewer than 8 of their periods, too few to judge.
+    assert not _free_response_warnings(lambda: modal.era(raw, dt, 4, rows=60, cols=600))
+    r = modal.correlations(filtered, 121)
+    assert not _free_response_warnings(lambda: modal.era(r, dt, 4, rows=60, cols=61))
