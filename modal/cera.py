@@ -56,7 +56,9 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
         ``real_pole`` flags eigenvalues outside [-1, 1] (no oscillatory
         mode); ``aliased`` frequencies within 2 % of ``pi / dt``;
         ``short_window`` modes with fewer than six periods in ``s dt``;
-        ``eigenvalues`` holds ``lambda``.
+        ``eigenvalues`` holds ``lambda``. A :class:`~modal.ModalWarning` names
+        flagged modes, and another warns when the record from ``start`` on is
+        not a free response (:func:`modal.result.free_response_growth`).
     """
     y = records("y", y)
     dt = positive_float("dt", dt)

@@ -29,7 +29,11 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
     ``|z| > 1`` are flagged ``unstable``, damped frequencies within 2 % of the
     Nyquist frequency ``pi / dt`` ``aliased``, and modes with fewer than six
     periods in the ``(rows + cols) dt`` seconds the Hankel matrix spans
-    ``short_window``; a :class:`~modal.ModalWarning` names them.
+    ``short_window``; a :class:`~modal.ModalWarning` names them. Another
+    warns when the record from ``start`` on is not a free response (its
+    energy keeps rising, as an ambient record's does;
+    :func:`modal.result.free_response_growth`): use the NExT correlation
+    functions (:func:`modal.correlations`) of such records instead.
 
     The data are divided by a power of two near their peak before the Hankel
     matrix is formed, so results do not depend on units or scale.

@@ -41,8 +41,11 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     is judged on the mode itself and on the lag-one Rayleigh quotient of its
     eigenvector, ``omega_1 = acos(v^T B_1 v / v^T A v) / dt``, which can see up
     to the Nyquist frequency. A :class:`~modal.ModalWarning` names flagged
-    modes. The signals are divided by a power of two near the peak of ``acc``
-    first, so results do not depend on units or scale.
+    modes. Another warns when ``acc`` is not a free response (its energy
+    keeps rising, as an ambient record's does;
+    :func:`modal.result.free_response_growth`): the TCM's inner products
+    (Eqs. 21-26) assume one. The signals are divided by a power of two near
+    the peak of ``acc`` first, so results do not depend on units or scale.
 
     Parameters
     ----------

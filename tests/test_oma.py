@@ -313,6 +313,18 @@ def test_free_decays_do_not_warn_free_response(zeta, eta):
     assert not _free_response_warnings(lambda: modal.era(rec.acceleration, dt, n, rows=20, cols=400, start=150))
 
 
+def test_a_mode_near_nyquist_is_not_mistaken_for_growth():
+    """Sampled, an undamped mode at 0.99 of the Nyquist frequency beats with
+    period 100 samples (its energy oscillates at 2 omega dt, folded to 0.02
+    pi): windows of 8 such beats hold a constant energy, so no warning."""
+    from modal.result import free_response_growth
+
+    k = np.arange(2000)
+    y = np.column_stack([np.cos(0.99 * np.pi * k), 0.5 * np.cos(0.99 * np.pi * k + 1)])
+    assert free_response_growth(y[None], 0.01, [0.99 * np.pi / 0.01]) < 0.01
+    assert not _free_response_warnings(lambda: modal.cera(y, 0.01, 1, cols=1000))
+
+
 def test_ambient_records_warn_free_response():
     """White-noise-driven beam response and the Palisaden record: TCM, CERA
     and ERA on the raw record warn, naming the remedy; ERA on the NExT
