@@ -336,12 +336,27 @@ def _mean_spectrum(y, dt, min_bins=4096):
     The data are tapered by the falling half of a Hann window (for
     correlation functions this is the Blackman-Tukey spectral estimate;
     for a free decay it hides the cut at the end) and zero-padded to at
-    least ``min_bins`` frequencies, so short records give smooth curves."""
-    n = y.shape[1]
+    least ``min_bins`` frequencies, so short records give smooth curves.
+
+    The power summed over the ``m l`` series is the DFT of their summed
+    autocorrelation (Wiener-Khinchin); when the padded length is at least
+    ``2 n - 1`` there is no wrap-around, so the autocorrelation comes from
+    short FFTs and the fine spectrum from one long FFT instead of ``m l``.
+    """
+    m, n, l = y.shape
     taper = np.hanning(2 * n)[n:]
+    x = (y * taper[None, :, None]).transpose(1, 0, 2).reshape(n, m * l)
     n_fft = max(n, 2 * min_bins)
-    amplitude = np.abs(scipy.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
-    return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(np.mean(amplitude**2, axis=(0, 2)))
+    if n_fft >= 2 * n - 1:
+        short = scipy.fft.next_fast_len(2 * n - 1, real=True)
+        acf = scipy.fft.irfft(np.sum(np.abs(scipy.fft.rfft(x, n=short, axis=0)) ** 2, axis=1), n=short)
+        circular = np.zeros(n_fft)
+        circular[:n] = acf[:n]  # lags 0 ... n - 1
+        circular[n_fft - n + 1:] = acf[short - n + 1:]  # lags -(n - 1) ... -1
+        power = np.clip(scipy.fft.rfft(circular).real, 0, None)
+    else:
+        power = np.sum(np.abs(scipy.fft.rfft(x, n=n_fft, axis=0)) ** 2, axis=1)
+    return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(power / (m * l)) / n
 
 
 def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None):

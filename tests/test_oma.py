@@ -351,3 +351,20 @@ def test_ambient_records_warn_free_response():
     assert not _free_response_warnings(lambda: modal.era(raw, dt, 4, rows=60, cols=600))
     r = modal.correlations(filtered, 121)
     assert not _free_response_warnings(lambda: modal.era(r, dt, 4, rows=60, cols=61))
+
+
+@pytest.mark.parametrize("n", [1, 2, 121, 5000])
+def test_mean_spectrum_equals_the_direct_sum(n):
+    """The spectrum behind the diagram (one long FFT of the summed
+    autocorrelation when the padding allows) equals the root mean square of
+    every series' tapered, zero-padded amplitude spectrum."""
+    from modal.stabilisation import _mean_spectrum
+
+    y = np.random.default_rng(n).standard_normal((3, n, 2)) * np.array([1.0, 30.0])
+    freqs, spectrum = _mean_spectrum(y, 0.01)
+    n_fft = max(n, 8192)
+    taper = np.hanning(2 * n)[n:]
+    direct = np.abs(np.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
+    direct = np.sqrt(np.mean(direct**2, axis=(0, 2)))
+    np.testing.assert_allclose(freqs, np.fft.rfftfreq(n_fft, 0.01))
+    np.testing.assert_allclose(spectrum, direct, rtol=1e-9, atol=1e-12 * direct.max())
