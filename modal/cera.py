@@ -6,7 +6,8 @@ import numpy as np
 
 from ._checks import positive_float, positive_int, records, unit_scale
 from .hankel import hankel
-from .result import ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 
 
 def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
@@ -55,7 +56,9 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
         ``real_pole`` flags eigenvalues outside [-1, 1] (no oscillatory
         mode); ``aliased`` frequencies within 2 % of ``pi / dt``;
         ``short_window`` modes with fewer than six periods in ``s dt``;
-        ``eigenvalues`` holds ``lambda``.
+        ``eigenvalues`` holds ``lambda``. A :class:`~modal.ModalWarning` names
+        flagged modes, and another warns when the record from ``start`` on is
+        not a free response (:func:`modal.result.free_response_growth`).
     """
     y = records("y", y)
     dt = positive_float("dt", dt)
@@ -89,4 +92,5 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
         singular_values=sv * scale,
         eigenvalues=c["lam"],
     )
+    warn_not_free_response(result, y[:, start:], dt)
     return warn_flags(result, cols * dt)

@@ -7,7 +7,8 @@ import numpy as np
 from ._checks import positive_float, positive_int, records, unit_scale
 from .hankel import hankel
 from .indicators import modal_amplitude_coherence, modal_phase_collinearity
-from .result import UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 
 #: |Im z| below this (relative to |z|) makes an eigenvalue a real pole.
 REAL_POLE_TOL = 1e-10
@@ -28,7 +29,11 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
     ``|z| > 1`` are flagged ``unstable``, damped frequencies within 2 % of the
     Nyquist frequency ``pi / dt`` ``aliased``, and modes with fewer than six
     periods in the ``(rows + cols) dt`` seconds the Hankel matrix spans
-    ``short_window``; a :class:`~modal.ModalWarning` names them.
+    ``short_window``; a :class:`~modal.ModalWarning` names them. Another
+    warns when the record from ``start`` on is not a free response (its
+    energy keeps rising, as an ambient record's does;
+    :func:`modal.result.free_response_growth`): use the NExT correlation
+    functions (:func:`modal.correlations`) of such records instead.
 
     The data are divided by a power of two near their peak before the Hankel
     matrix is formed, so results do not depend on units or scale.
@@ -83,6 +88,7 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
         )
     result = realise(p, d, qt, h1, n_channels=l, n_sets=m, dt=dt, singular_values=sv * scale,
                      window=(rows + cols) * dt)
+    warn_not_free_response(result, y[:, start:], dt)
     return warn_flags(result, (rows + cols) * dt)
 
 
@@ -270,31 +276,10 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
     """
     l, m = n_channels, n_sets
     d_isqrt = 1 / np.sqrt(d)
-    phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]
-    z, psi = np.linalg.eig(phi)  # Eq. (42)
-    complex_shapes = (p[:l] * np.sqrt(d)[None, :]) @ psi  # Eq. (45): E_p^T P D^{1/2} psi
-    histories = np.linalg.solve(psi, np.sqrt(d)[:, None] * qt)  # modal amplitudes over the columns
-
-    # One entry per conjugate pair (Im z > 0) and per real eigenvalue.
-    real = np.abs(z.imag) <= REAL_POLE_TOL * np.abs(z)
-    keep = real | (z.imag > 0)
-    z, real = z[keep], real[keep]
-    complex_shapes, histories = complex_shapes[:, keep], histories[keep]
-    with np.errstate(divide="ignore"):
-        s = np.log(z.astype(complex)) / dt  # Eq. (44), j = 0
-    omega = np.abs(s)
-    damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
-    with np.errstate(over="ignore", invalid="ignore"):
-        mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, m), nan=0.0)
-    mpc = modal_phase_collinearity(complex_shapes)
-
-    unstable = np.abs(z) > 1 + UNSTABLE_TOL
-    aliased = near_limit(np.abs(s.imag), dt)
-
-    omega, shapes, cols_ = sort_modes(
-        omega, normalise_shapes(complex_shapes), damping=damping, real_pole=real, unstable=unstable,
-        aliased=aliased, mamc=mamc, mpc=mpc, z=z
-    )
+    phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]  # Eq. (41)
+    z, real, complex_shapes, histories = eigen_poles(phi, p[:l] * np.sqrt(d)[None, :], np.sqrt(d)[:, None] * qt)
+    poles = pole_indicators(z, real, complex_shapes, histories, dt, m)
+    omega, shapes, cols_ = sort_modes(poles.pop("omega"), poles.pop("shapes"), **poles)
     return ModalResult(
         omega=omega,
         shapes=shapes,
@@ -309,3 +294,75 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
         singular_values=d if singular_values is None else singular_values,
         eigenvalues=cols_["z"],
     )
+
+
+def eigen_poles(phi, output, states):
+    """Eigenvalues of one realisation and what the indicators need of them.
+
+    Solves ``Phi psi = psi z`` (Eq. 42) and keeps one entry per
+    complex-conjugate pair (``Im z > 0``) and per real eigenvalue (``|Im z|``
+    at most :data:`REAL_POLE_TOL` ``|z|``).
+
+    Parameters
+    ----------
+    phi : ndarray, shape (k, k)
+        The state matrix of Eq. (41).
+    output : ndarray, shape (l, k)
+        ``E_p^T P D^{1/2}`` (Eq. 43).
+    states : ndarray, shape (k, m s)
+        ``D^{1/2} Q^T``, the state sequence over the Hankel columns.
+
+    Returns
+    -------
+    z : ndarray of complex
+        The kept eigenvalues.
+    real : ndarray of bool
+        Which of them are real poles.
+    complex_shapes : ndarray, shape (l, n)
+        ``E_p^T P D^{1/2} psi`` (Eq. 45) for the kept eigenvalues.
+    histories : ndarray, shape (n, m s)
+        Their modal amplitudes over the Hankel columns, the kept rows of
+        ``psi^{-1} D^{1/2} Q^T`` (for the modal amplitude coherence); only
+        those rows are formed.
+    """
+    z, psi = np.linalg.eig(phi)  # Eq. (42)
+    real = np.abs(z.imag) <= REAL_POLE_TOL * np.abs(z)
+    keep = real | (z.imag > 0)
+    complex_shapes = output @ psi[:, keep]  # Eq. (45)
+    # the kept rows of psi^{-1}: solve psi^T X = the kept columns of I
+    rows = np.linalg.solve(psi.T, np.eye(len(z))[:, keep]).T
+    n = len(rows)  # states is real: two real products instead of one complex
+    stacked = np.concatenate([rows.real, rows.imag]) @ states
+    histories = stacked[:n] + 1j * stacked[n:]
+    return z[keep], real[keep], complex_shapes, histories
+
+
+def pole_indicators(z, real, complex_shapes, histories, dt, n_sets) -> dict:
+    """Frequencies, damping, flags and indicators of poles from
+    :func:`eigen_poles`, vectorised over any number of poles (one
+    realisation's or many orders' concatenated).
+
+    ``s = ln z / dt`` (Eq. 44, j = 0), ``omega = |s|``, damping ``-Re s / |s|``
+    (NaN for real poles), ``unstable`` where ``|z| > 1 +`` :data:`UNSTABLE_TOL`,
+    ``aliased`` damped frequencies near ``pi / dt``, modal amplitude coherence
+    (0 where it overflows) and phase collinearity, and the normalised real
+    ``shapes`` (n_channels, n). Returns a dict with these keys, ``z`` and
+    ``real_pole``, in the input order.
+    """
+    with np.errstate(divide="ignore"):
+        s = np.log(z.astype(complex)) / dt  # Eq. (44), j = 0
+    omega = np.abs(s)
+    damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, n_sets), nan=0.0)
+    return {
+        "omega": omega,
+        "shapes": normalise_shapes(complex_shapes),
+        "damping": damping,
+        "real_pole": real,
+        "unstable": np.abs(z) > 1 + UNSTABLE_TOL,
+        "aliased": near_limit(np.abs(s.imag), dt),
+        "mamc": mamc,
+        "mpc": modal_phase_collinearity(complex_shapes),
+        "z": z,
+    }

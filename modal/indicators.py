@@ -27,10 +27,31 @@ def mac(a, b) -> np.ndarray:
         raise ValueError(f"a and b must be (n_channels, modes) with the same rows, got {a.shape} and {b.shape}")
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         raise ValueError("a and b must not contain NaN or inf")
-    cross = np.abs(a.conj().T @ b) ** 2
-    na = np.sum(np.abs(a) ** 2, axis=0)
-    nb = np.sum(np.abs(b) ** 2, axis=0)
-    denom = np.outer(na, nb)
+    return _normalised(np.abs(a.conj().T @ b) ** 2, np.outer(_squared_norms(a), _squared_norms(b)))
+
+
+def paired_mac(a, b) -> np.ndarray:
+    """MAC of each column of ``a`` with the same column of ``b``: the diagonal
+    of ``mac(a, b)`` without the rest of the matrix (no input checks; for the
+    engine's own finite shapes).
+
+    Parameters
+    ----------
+    a, b : ndarray, shape (n_channels, p)
+
+    Returns
+    -------
+    ndarray, shape (p,)
+    """
+    return _normalised(np.abs(np.sum(a.conj() * b, axis=0)) ** 2, _squared_norms(a) * _squared_norms(b))
+
+
+def _squared_norms(a):
+    return np.sum(np.abs(a) ** 2, axis=0)
+
+
+def _normalised(cross, denom):
+    """``cross / denom``, 0 where ``denom`` is 0 (a zero shape)."""
     return np.divide(cross, denom, out=np.zeros_like(cross), where=denom > 0)
 
 
@@ -89,14 +110,17 @@ def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
     """
     n_modes, width = histories.shape
     s = width // n_sets
-    b = histories[:, :n_sets]  # (n, m)
+    blocks = histories.reshape(n_modes, s, n_sets)  # [i, j, k]: mode i, block column j, data set k
+    b = blocks[:, 0]  # (n, m)
     # z^j, j = 0 .. s-1, as a running product: 30 x faster than a complex power,
     # and its rounding (about s eps relative) is immaterial to an indicator
     z = np.asarray(z)
     factors = np.broadcast_to(z[:, None], (n_modes, s)).copy()
     factors[:, 0] = 1
     powers = np.cumprod(factors, axis=1)  # (n, s)
-    ideal = (powers[:, :, None] * b[:, None, :]).reshape(n_modes, width)
-    num = np.abs(np.sum(histories * ideal.conj(), axis=1))
-    den = np.linalg.norm(histories, axis=1) * np.linalg.norm(ideal, axis=1)
+    # q . conj(q_ideal) = sum_j conj(z^j) sum_k q[j m + k] conj(b_k), and
+    # |q_ideal|^2 = |b|^2 sum_j |z^j|^2: q_ideal is never formed
+    num = np.abs(np.einsum("ij,ij->i", np.einsum("ijk,ik->ij", blocks, b.conj()), powers.conj()))
+    ideal_norm = np.linalg.norm(b, axis=1) * np.linalg.norm(powers, axis=1)
+    den = np.linalg.norm(histories, axis=1) * ideal_norm
     return np.divide(num, den, out=np.zeros_like(num), where=den > 0)

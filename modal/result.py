@@ -180,3 +180,88 @@ def warn_flags(result: ModalResult, window: float) -> ModalResult:
     if notes:
         warnings.warn(f"{result.method}: " + "; ".join(notes) + " (see the result's flags)", ModalWarning, stacklevel=3)
     return result
+
+
+#: Windows of this many periods of the lowest identified mode, for
+#: :func:`free_response_growth`.
+FREE_RESPONSE_PERIODS = 4
+#: Without an oscillating mode, the record is cut into this many windows.
+FREE_RESPONSE_MIN_WINDOWS = 8
+#: :func:`warn_not_free_response` warns when the energy of the record grows,
+#: summed over its rises from window to window, by more than this multiple of
+#: the first window's energy.
+FREE_RESPONSE_MAX_GROWTH = 1.0
+
+
+def free_response_growth(y, dt, omega) -> float:
+    """How much the energy of ``y`` rises over the record, relative to its
+    start: NaN when the record is too short to tell.
+
+    A free response (or impulse response) starts with all the energy it will
+    ever have: without excitation the energy of every mode stays constant
+    (undamped) or decays, so the energy summed over channels (and data sets),
+    averaged over windows of :data:`FREE_RESPONSE_PERIODS` periods of the
+    lowest mode of ``omega`` (so its oscillation averages out), never rises but for noise and the beating of
+    close modes. A stationary (ambient) response keeps being excited: its
+    windowed energy rises and falls at random for as long as the record lasts.
+    The statistic is the sum of the rises from each window to the next,
+    ``sum_i max(0, E_{i+1} - E_i) / E_0``: close to 0 for a free response,
+    of order one or more per ``1 / (zeta omega)`` correlation times for an
+    ambient one.
+
+    NaN when the record holds fewer than two windows: a record shorter than
+    eight periods of its lowest mode cannot be told from a stretch of ambient
+    response.
+
+    Parameters
+    ----------
+    y : ndarray, shape (m, n_samples, l)
+        The data the method analysed (means removed here per channel).
+    dt : float
+        Sampling interval (s).
+    omega : array_like
+        Identified natural frequencies (rad/s); non-finite or non-positive
+        ones are ignored.
+    """
+    omega = np.asarray(omega, dtype=float)
+    omega = omega[np.isfinite(omega) & (omega > 0)]
+    n_samples = y.shape[1]
+    if omega.size:
+        # A sampled mode's energy oscillates at 2 omega dt, folded into [0, pi]
+        # (near the Nyquist frequency it beats slowly): the windows hold
+        # 2 FREE_RESPONSE_PERIODS of those oscillations of every mode.
+        rate = np.abs(np.mod(2 * omega * dt + np.pi, 2 * np.pi) - np.pi)
+        with np.errstate(divide="ignore"):
+            window = np.max(2 * FREE_RESPONSE_PERIODS * 2 * np.pi / rate)
+    else:
+        window = n_samples // FREE_RESPONSE_MIN_WINDOWS
+    if not window < n_samples / 2 or window < 1:
+        return np.nan
+    window = int(round(window))
+    n_windows = n_samples // window
+    y = y[:, : n_windows * window]
+    power = np.sum((y - y.mean(axis=1, keepdims=True)) ** 2, axis=(0, 2))
+    energy = power.reshape(n_windows, window).mean(axis=1)
+    if energy[0] <= 0:
+        return np.inf if np.any(energy > 0) else np.nan
+    return float(np.sum(np.maximum(np.diff(energy), 0)) / energy[0])
+
+
+def warn_not_free_response(result: ModalResult, y, dt) -> ModalResult:
+    """Issue a :class:`ModalWarning` when ``y`` is not consistent with a free
+    (or impulse) response, :func:`free_response_growth` above
+    :data:`FREE_RESPONSE_MAX_GROWTH`, and return ``result``. TCM, ERA and CERA
+    all model the data as the free response of the structure (thesis Eqs.
+    22, 34, 46); on a stationary ambient record they return frequencies and
+    damping that belong to no mode."""
+    import warnings
+
+    growth = free_response_growth(y, dt, result.omega)
+    if growth > FREE_RESPONSE_MAX_GROWTH:
+        warnings.warn(
+            f"{result.method}: the data do not look like a free response: their energy keeps rising "
+            f"({growth:.3g} x the initial energy over the record), as in an ambient (stationary) record. "
+            f"The {result.method.upper()} assumes free (or impulse) response; for ambient data use "
+            "modal.correlations and then modal.era or modal.stabilisation on the correlation functions",
+            ModalWarning, stacklevel=3)
+    return result

@@ -21,9 +21,9 @@ import pandas as pd
 import scipy.fft
 
 from ._checks import nonnegative_float, positive_float, positive_int, records
-from .era import decompose, realise
+from .era import decompose, eigen_poles, pole_indicators
 from .hankel import hankel
-from .indicators import mac
+from .indicators import mac, paired_mac
 from .result import ModalWarning
 
 POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
@@ -183,52 +183,26 @@ def stabilisation(
         )
     h_ext = hankel(y, rows + 1, cols, start)
     h0, h1 = h_ext[:-l], h_ext[l:]
-    p, d, qt, sv = decompose(h0, max_order)
+    p, d, qt, sv = decompose(h0, max_order, block=(l, m))
     rank = int(np.sum(d > sv[0] * np.finfo(float).eps * max(h0.shape)))
     if rank < max_order:
         warnings.warn(f"H(0) has numerical rank {rank}: orders above it are not computed", ModalWarning, stacklevel=2)
         max_order = rank - rank % 2
-    # realise() uses H(1) only through P^T H(1) (Eq. 41) and P only through
-    # P^T H(1) and E_p^T P (Eqs. 43, 45). Every truncation P[:, :k] lies in
-    # span(P), so the stacked pair [E_p^T P; I] and [0; P^T H(1)] gives the
-    # same products exactly, with l + max_order rows instead of l r: the
-    # projection costs one product, then each order is cheap.
-    p_stacked = np.vstack([p[:l], np.eye(p.shape[1])])
-    h1_stacked = np.vstack([np.zeros((l, h1.shape[1])), p.T @ h1])
     orders = list(range(2, max_order + 1, 2))
-    columns = {name: [] for name in POLE_COLUMNS}
-    shapes_out, previous = [], None
-    for done, order in enumerate(orders, 1):
-        result = realise(p_stacked[:, :order], d[:order], qt[:order], h1_stacked, n_channels=l, n_sets=m, dt=dt,
-                         singular_values=sv)
-        current = {
-            "order": np.full(result.n_modes, order),
-            "freq_hz": result.freq_hz,
-            "damping": result.damping,
-            "mpc": result.mpc,
-            "mamc": result.mamc,
-            "real_pole": result.real_pole,
-        }
-        current.update(_stability(current, result.shapes, previous, criteria))
-        for name in POLE_COLUMNS:
-            columns[name].append(current[name])
-        shapes_out.append(result.shapes.T)
-        previous = (current, result.shapes)
-        if progress is not None:
-            progress(done, len(orders))
-    poles = pd.DataFrame({name: np.concatenate(values) if values else [] for name, values in columns.items()})
-    pole_shapes = np.concatenate(shapes_out) if shapes_out else np.empty((0, l))
+    table, pole_shapes = _poles(p, d, qt, h1, orders, l, m, dt, progress)
+    table.update(_stability(table, pole_shapes, criteria))
     with np.errstate(invalid="ignore"):
-        poles["physical"] = (
-            ~poles["real_pole"]
-            & (poles["damping"] > 0)
-            & (poles["damping"] < criteria.max_damping)
-            & (poles["mpc"] >= criteria.mpc_min)
-            & (poles["mamc"] >= criteria.mamc_min)
-            & (poles["freq_hz"] < (0.5 / dt if fmax is None else fmax))
+        table["physical"] = (
+            ~table["real_pole"]
+            & (table["damping"] > 0)
+            & (table["damping"] < criteria.max_damping)
+            & (table["mpc"] >= criteria.mpc_min)
+            & (table["mamc"] >= criteria.mamc_min)
+            & (table["freq_hz"] < (0.5 / dt if fmax is None else fmax))
         )
     min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
-    poles["mode"], modes, shapes = _select_modes(poles, pole_shapes, criteria.cluster_distance, min_poles)
+    table["mode"], modes, shapes = _select_modes(table, pole_shapes, criteria.cluster_distance, min_poles)
+    poles = pd.DataFrame({name: table[name] for name in POLE_COLUMNS + ["physical", "mode"]})
     if modes.empty:
         warnings.warn("no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria",
                       ModalWarning, stacklevel=2)
@@ -236,47 +210,99 @@ def stabilisation(
     return Stabilisation(modes, shapes, poles, pole_shapes, sv, spectrum_hz, spectrum, criteria)
 
 
-def _stability(current, shapes, previous, criteria) -> dict:
-    """Compare each pole with the nearest-frequency pole of the previous order."""
-    n = len(current["freq_hz"])
-    if previous is None or len(previous[0]["freq_hz"]) == 0 or n == 0:
-        false = np.zeros(n, dtype=bool)
-        return {"stable_freq": false, "stable_damping": false.copy(), "stable_shape": false.copy(), "stable": false.copy()}
-    before, before_shapes = previous
-    f, f0 = current["freq_hz"], before["freq_hz"]
-    nearest = np.argmin(np.abs(f[:, None] - f0[None, :]), axis=1)
+def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
+    """Poles of every order in ``orders``, each realised from the leading
+    ``order`` triplets of ``P D Q^T`` (Sec. 4.4), as :func:`modal.era.realise`
+    would give them order by order.
+
+    The realisation of order ``k`` is the leading ``k x k`` block of the
+    largest order's ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` (Eq. 41) and the
+    leading ``k`` columns of ``E_p^T P D^{1/2}`` (Eq. 43), so both are formed
+    once. Each order then costs its eigenproblem (Eq. 42) and the kept rows
+    of ``psi^{-1}``; frequencies, damping, MPC and MAMC follow for all poles
+    at once (:func:`modal.era.pole_indicators`).
+
+    Returns
+    -------
+    table : dict of ndarray
+        ``order``, ``freq_hz``, ``damping``, ``mpc``, ``mamc``, ``real_pole``,
+        one entry per pole, by order and then by frequency.
+    pole_shapes : ndarray, shape (n_poles, l)
+    """
+    k = orders[-1] if orders else 0
+    sqrt_d = np.sqrt(d[:k])
+    phi = (p[:, :k].T @ h1 @ qt[:k].T) / np.outer(sqrt_d, sqrt_d)  # Eq. (41)
+    output = p[:l, :k] * sqrt_d[None, :]  # Eq. (43)
+    states = sqrt_d[:, None] * qt[:k]
+    parts = []
+    for done, order in enumerate(orders, 1):
+        parts.append((order, *eigen_poles(phi[:order, :order], output[:, :order], states[:order])))
+        if progress is not None:
+            progress(done, len(orders))
+    if not parts:
+        empty = np.empty(0)
+        return ({"order": np.empty(0, dtype=int), "freq_hz": empty, "damping": empty, "mpc": empty, "mamc": empty,
+                 "real_pole": np.empty(0, dtype=bool)}, np.empty((0, l)))
+    order = np.concatenate([np.full(len(z), o) for o, z, *_ in parts])
+    z, real, complex_shapes, histories = (np.concatenate([part[i] for part in parts], axis=axis)
+                                          for i, axis in ((1, 0), (2, 0), (3, 1), (4, 0)))
+    poles = pole_indicators(z, real, complex_shapes, histories, dt, m)
+    by = np.lexsort((poles["omega"], order))  # stable: ties keep realise()'s order
+    table = {
+        "order": order[by],
+        "freq_hz": poles["omega"][by] / (2 * np.pi),
+        "damping": poles["damping"][by],
+        "mpc": poles["mpc"][by],
+        "mamc": poles["mamc"][by],
+        "real_pole": poles["real_pole"][by],
+    }
+    return table, poles["shapes"][:, by].T
+
+
+def _stability(table, pole_shapes, criteria) -> dict:
+    """Compare each pole with the nearest-frequency pole of the next lower
+    order (the first such pole on ties); poles of the lowest order, or whose
+    lower order has no pole, are not stable."""
+    order, f, zeta = table["order"], table["freq_hz"], table["damping"]
+    n = len(order)
+    nearest = np.full(n, -1)
+    bounds = np.flatnonzero(np.diff(order)) + 1
+    starts = np.concatenate([[0], bounds])
+    ends = np.concatenate([bounds, [n]])
+    for i in range(1, len(starts)):
+        lo, hi, lo0, hi0 = starts[i], ends[i], starts[i - 1], ends[i - 1]
+        if order[lo0] == order[lo] - 2:
+            nearest[lo:hi] = lo0 + np.argmin(np.abs(f[lo:hi, None] - f[None, lo0:hi0]), axis=1)
+    has = nearest >= 0
+    near = np.where(has, nearest, 0)
     with np.errstate(invalid="ignore", divide="ignore"):
-        stable_freq = np.abs(f - f0[nearest]) <= criteria.freq_rtol * f
-        zeta, zeta0 = current["damping"], before["damping"][nearest]
-        stable_damping = np.abs(zeta - zeta0) <= criteria.damping_rtol * np.abs(zeta0)
-    stable_shape = mac(shapes, before_shapes)[np.arange(n), nearest] >= criteria.mac_min
+        stable_freq = has & (np.abs(f - f[near]) <= criteria.freq_rtol * f)
+        stable_damping = has & (np.abs(zeta - zeta[near]) <= criteria.damping_rtol * np.abs(zeta[near]))
+    stable_shape = has & (paired_mac(pole_shapes.T, pole_shapes[near].T) >= criteria.mac_min)
     stable = stable_freq & stable_damping & stable_shape
     return {"stable_freq": stable_freq, "stable_damping": stable_damping, "stable_shape": stable_shape, "stable": stable}
 
 
-def _select_modes(poles: pd.DataFrame, pole_shapes: np.ndarray, cluster_distance: float, min_poles: int):
+def _select_modes(poles: dict, pole_shapes: np.ndarray, cluster_distance: float, min_poles: int):
     """Cluster the stable physical poles (average linkage, scipy.cluster) by
-    frequency and shape into modes."""
+    frequency and shape into modes; ``poles`` maps the pole columns to arrays."""
     from scipy.cluster.hierarchy import fcluster, linkage
     from scipy.spatial.distance import squareform
 
-    labels = np.zeros(len(poles), dtype=int)
-    candidates = np.flatnonzero((poles["stable"] & poles["physical"]).to_numpy())
-    empty = pd.DataFrame({c: pd.Series(dtype=float) for c in MODE_COLUMNS})
+    labels = np.zeros(len(poles["order"]), dtype=int)
+    candidates = np.flatnonzero(poles["stable"] & poles["physical"])
     if len(candidates) < max(2, min_poles):
-        return labels, empty, np.empty((pole_shapes.shape[1], 0))
-    f = poles["freq_hz"].to_numpy()[candidates]
+        return labels, _no_modes(), np.empty((pole_shapes.shape[1], 0))
+    f = poles["freq_hz"][candidates]
     shapes = pole_shapes[candidates].T
     distance = np.abs(f[:, None] - f[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     clusters = fcluster(linkage(squareform(distance, checks=False), method="average"), cluster_distance, "distance")
-    table = {name: poles[name].to_numpy() for name in ("freq_hz", "damping", "mpc", "mamc")}
+    table = {name: poles[name] for name in ("freq_hz", "damping", "mpc", "mamc")}
     rows, reps = [], []
-    for cluster in np.unique(clusters):
+    for cluster in np.flatnonzero(np.bincount(clusters) >= min_poles):
         members = np.flatnonzero(clusters == cluster)
-        if len(members) < min_poles:
-            continue
         medoid = members[np.argmin(distance[np.ix_(members, members)].sum(axis=1))]
         group = {name: values[candidates[members]] for name, values in table.items()}
         rows.append({
@@ -291,13 +317,17 @@ def _select_modes(poles: pd.DataFrame, pole_shapes: np.ndarray, cluster_distance
         })
         reps.append(shapes[:, medoid])
     if not rows:
-        return labels, empty, np.empty((pole_shapes.shape[1], 0))
+        return labels, _no_modes(), np.empty((pole_shapes.shape[1], 0))
     order = np.argsort([r["freq_hz"] for r in rows], kind="stable")
     for number, i in enumerate(order, 1):
         labels[rows[i].pop("members")] = number
         rows[i]["mode"] = number
-    modes = pd.DataFrame([rows[i] for i in order])[MODE_COLUMNS]
+    modes = pd.DataFrame({c: np.array([rows[i][c] for i in order]) for c in MODE_COLUMNS})
     return labels, modes, np.column_stack([reps[i] for i in order])
+
+
+def _no_modes() -> pd.DataFrame:
+    return pd.DataFrame({c: pd.Series(dtype=float) for c in MODE_COLUMNS})
 
 
 def _mean_spectrum(y, dt, min_bins=4096):
@@ -306,12 +336,27 @@ def _mean_spectrum(y, dt, min_bins=4096):
     The data are tapered by the falling half of a Hann window (for
     correlation functions this is the Blackman-Tukey spectral estimate;
     for a free decay it hides the cut at the end) and zero-padded to at
-    least ``min_bins`` frequencies, so short records give smooth curves."""
-    n = y.shape[1]
+    least ``min_bins`` frequencies, so short records give smooth curves.
+
+    The power summed over the ``m l`` series is the DFT of their summed
+    autocorrelation (Wiener-Khinchin); when the padded length is at least
+    ``2 n - 1`` there is no wrap-around, so the autocorrelation comes from
+    short FFTs and the fine spectrum from one long FFT instead of ``m l``.
+    """
+    m, n, l = y.shape
     taper = np.hanning(2 * n)[n:]
+    x = (y * taper[None, :, None]).transpose(1, 0, 2).reshape(n, m * l)
     n_fft = max(n, 2 * min_bins)
-    amplitude = np.abs(scipy.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
-    return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(np.mean(amplitude**2, axis=(0, 2)))
+    if n_fft >= 2 * n - 1:
+        short = scipy.fft.next_fast_len(2 * n - 1, real=True)
+        acf = scipy.fft.irfft(np.sum(np.abs(scipy.fft.rfft(x, n=short, axis=0)) ** 2, axis=1), n=short)
+        circular = np.zeros(n_fft)
+        circular[:n] = acf[:n]  # lags 0 ... n - 1
+        circular[n_fft - n + 1:] = acf[short - n + 1:]  # lags -(n - 1) ... -1
+        power = np.clip(scipy.fft.rfft(circular).real, 0, None)
+    else:
+        power = np.sum(np.abs(scipy.fft.rfft(x, n=n_fft, axis=0)) ** 2, axis=1)
+    return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(power / (m * l)) / n
 
 
 def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None):

@@ -6,7 +6,8 @@ import numpy as np
 import scipy.linalg
 
 from ._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
-from .result import ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags
+from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+                     warn_not_free_response)
 from .signals import acceleration_offset, integrate_acceleration
 
 
@@ -40,8 +41,11 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     is judged on the mode itself and on the lag-one Rayleigh quotient of its
     eigenvector, ``omega_1 = acos(v^T B_1 v / v^T A v) / dt``, which can see up
     to the Nyquist frequency. A :class:`~modal.ModalWarning` names flagged
-    modes. The signals are divided by a power of two near the peak of ``acc``
-    first, so results do not depend on units or scale.
+    modes. Another warns when ``acc`` is not a free response (its energy
+    keeps rising, as an ambient record's does;
+    :func:`modal.result.free_response_growth`): the TCM's inner products
+    (Eqs. 21-26) assume one. The signals are divided by a power of two near
+    the peak of ``acc`` first, so results do not depend on units or scale.
 
     Parameters
     ----------
@@ -98,6 +102,7 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
     if n_samples < needed:
         raise ValueError(f"too few samples ({n_samples}) for {l} channels and lag {lag}: need at least {needed}")
     scale = unit_scale(acc)
+    full = acc
     acc = acc[:n_samples] / scale
 
     if lag == 0:
@@ -145,4 +150,5 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
         singular_values=a_eig[::-1] * scale**2,
         eigenvalues=cols["lam"][keep],
     )
+    warn_not_free_response(result, full[None], dt)
     return warn_flags(result, window)

@@ -197,3 +197,174 @@ def test_python_m_modal_and_import_without_matplotlib():
     subprocess.run([sys.executable, "-c", code], check=True)
     run = subprocess.run([sys.executable, "-m", "modal", "identify", "--help"], capture_output=True, text=True)
     assert run.returncode == 0 and "--free-decay" in run.stdout
+
+
+def _per_order_reference(data, dt, max_order, rows, criteria):
+    """The stabilisation diagram the straightforward way: ``realise`` at each
+    order from the truncated decomposition, each order's poles compared with
+    the previous order's through the whole MAC matrix."""
+    from modal.era import decompose, realise
+
+    y = data if data.ndim == 3 else data[None]
+    m, n_samples, l = y.shape
+    h_ext = modal.hankel(y, rows + 1, n_samples - rows)
+    h0, h1 = h_ext[:-l], h_ext[l:]
+    p, d, qt, _ = decompose(h0, max_order, block=(l, m))
+    rows_out, shapes_out, previous = [], [], None
+    for order in range(2, max_order + 1, 2):
+        res = realise(p[:, :order], d[:order], qt[:order], h1, n_channels=l, n_sets=m, dt=dt)
+        cur = {"order": np.full(res.n_modes, order), "freq_hz": res.freq_hz, "damping": res.damping,
+               "mpc": res.mpc, "mamc": res.mamc, "real_pole": res.real_pole}
+        n = res.n_modes
+        if previous is None:
+            flags = [np.zeros(n, bool)] * 3
+        else:
+            f0, zeta0, shapes0 = previous
+            near = np.argmin(np.abs(cur["freq_hz"][:, None] - f0[None, :]), axis=1)
+            with np.errstate(invalid="ignore"):
+                flags = [np.abs(cur["freq_hz"] - f0[near]) <= criteria.freq_rtol * cur["freq_hz"],
+                         np.abs(res.damping - zeta0[near]) <= criteria.damping_rtol * np.abs(zeta0[near]),
+                         modal.mac(res.shapes, shapes0)[np.arange(n), near] >= criteria.mac_min]
+        cur.update(stable_freq=flags[0], stable_damping=flags[1], stable_shape=flags[2],
+                   stable=flags[0] & flags[1] & flags[2])
+        rows_out.append(cur)
+        shapes_out.append(res.shapes.T)
+        previous = (res.freq_hz, res.damping, res.shapes)
+    table = {k: np.concatenate([r[k] for r in rows_out]) for k in rows_out[0]}
+    return table, np.concatenate(shapes_out)
+
+
+@pytest.mark.parametrize("case", ["ambient_correlations", "free_decay"])
+def test_stabilisation_equals_per_order_realisations(case):
+    """The vectorised diagram (one Phi, indicators for all orders at once,
+    stability by nearest pole) equals order-by-order ``realise`` to round-off,
+    on noisy data off the thesis geometry: correlations of the ambient beam
+    with 5 % sensor noise (5 references: m = 5), and a free decay."""
+    rng = np.random.default_rng(11)
+    if case == "ambient_correlations":
+        acc, dt, _ = ambient_beam(duration_s=120, seed=5)
+        acc = acc + 0.05 * acc.std(axis=0) * rng.standard_normal(acc.shape)
+        data, rows, max_order = modal.correlations(modal.detrend(acc), 81), 40, 40
+    else:
+        dt, t = 1 / 200, np.arange(1500) / 200
+        f, zeta = np.array([3.1, 11.7, 26.0]), np.array([0.02, 0.01, 0.035])
+        decay = np.exp(-zeta * 2 * np.pi * f * t[:, None]) * np.sin(2 * np.pi * f * t[:, None] + 0.3)
+        data = decay @ BEAM.mode_shapes(SENSORS_X, 3).T
+        data = data + 0.05 * data.std(axis=0) * rng.standard_normal(data.shape)
+        rows, max_order = 30, 30
+    criteria = modal.StabilityCriteria()
+    fast = modal.stabilisation(data, dt, max_order, rows, criteria=criteria)
+    table, shapes = _per_order_reference(data, dt, max_order, rows, criteria)
+    assert len(fast.poles) == len(table["order"]) > max_order
+    for name in ("order", "real_pole", "stable_freq", "stable_damping", "stable_shape", "stable"):
+        np.testing.assert_array_equal(fast.poles[name], table[name], err_msg=name)
+    for name in ("freq_hz", "damping", "mpc", "mamc"):
+        np.testing.assert_allclose(fast.poles[name], table[name], rtol=1e-9, atol=1e-12, err_msg=name)
+    np.testing.assert_allclose(fast.pole_shapes, shapes, atol=1e-9)
+    assert fast.poles["stable"].sum() > 10 and (~fast.poles["stable"]).sum() > 10
+    assert (fast.poles["mamc"] < 0.5).sum() > 0 and (fast.poles["mamc"] > 0.9).sum() > 0
+
+
+# ------------------------------------------------------- methods that assume a free response
+def _free_response_warnings(call):
+    """The free-response ModalWarnings ``call()`` issues (other flags aside)."""
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        call()
+    return [w for w in caught if issubclass(w.category, modal.ModalWarning) and "free response" in str(w.message)]
+
+
+def test_free_response_growth_of_a_known_envelope():
+    """Whole periods of a sine with amplitude a_i in window i (4 periods each):
+    the window energies are a_i^2 / 2, so the statistic is the sum of their
+    rises over the first: (4 - 1) + (9 - 1) = 11."""
+    from modal.result import free_response_growth
+
+    dt, f = 0.01, 2.5  # 40 samples per period, windows of 160 samples
+    amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
+    t = dt * np.arange(160)
+    y = np.concatenate([a * np.sin(2 * np.pi * f * t) for a in amplitudes])
+    y = np.column_stack([y, 0.5 * y])[None]
+    assert free_response_growth(y, dt, [2 * np.pi * f]) == pytest.approx(11, rel=1e-9)
+    decaying = y * np.exp(-0.2 * np.arange(y.shape[1]) * dt)[None, :, None]
+    assert free_response_growth(decaying, dt, [2 * np.pi * f, 7.0]) == 0.0
+    assert np.isnan(free_response_growth(y[:, :100], dt, [2 * np.pi * f]))  # 100 samples: not two windows
+
+
+@pytest.mark.parametrize("zeta, eta", [(0.0, 0.0), (0.0, 0.05), (0.05, 0.0), (0.02, 0.05), (0.005, 0.03)])
+def test_free_decays_do_not_warn_free_response(zeta, eta):
+    """Impulse responses of the beam off the thesis geometry (sensors at
+    SENSORS_X, impact at 0.37 L), undamped to 5 % damping, noise to 5 %:
+    no method calls them ambient, and the statistic stays far below 1."""
+    from modal.result import free_response_growth
+
+    n = 3
+    omega = BEAM.natural_frequencies(n)
+    dt = 2 * np.pi / omega[-1] / 12
+    rec = modal.beam_impulse_response(BEAM, n, 0.37 * BEAM.length, SENSORS_X[[0, 2, 4]], dt, 2400, zeta)
+    rec = modal.with_noise(rec, eta, seed=3) if eta else rec
+    for signal in (rec.displacement, rec.velocity, rec.acceleration):
+        assert free_response_growth(signal[None], dt, omega) < 0.1
+    assert not _free_response_warnings(lambda: modal.tcm(rec.acceleration, dt, vel=rec.velocity))
+    assert not _free_response_warnings(lambda: modal.cera(rec.acceleration, dt, n, cols=2000))
+    assert not _free_response_warnings(lambda: modal.era(rec.acceleration, dt, n, rows=20, cols=400))
+    assert not _free_response_warnings(lambda: modal.era(rec.acceleration, dt, n, rows=20, cols=400, start=150))
+
+
+def test_a_mode_near_nyquist_is_not_mistaken_for_growth():
+    """Sampled, an undamped mode at 0.99 of the Nyquist frequency beats with
+    period 100 samples (its energy oscillates at 2 omega dt, folded to 0.02
+    pi): windows of 8 such beats hold a constant energy, so no warning."""
+    from modal.result import free_response_growth
+
+    k = np.arange(2000)
+    y = np.column_stack([np.cos(0.99 * np.pi * k), 0.5 * np.cos(0.99 * np.pi * k + 1)])
+    assert free_response_growth(y[None], 0.01, [0.99 * np.pi / 0.01]) < 0.01
+    assert not _free_response_warnings(lambda: modal.cera(y, 0.01, 1, cols=1000))
+
+
+def test_ambient_records_warn_free_response():
+    """White-noise-driven beam response and the Palisaden record: TCM, CERA
+    and ERA on the raw record warn, naming the remedy; ERA on the NExT
+    correlation functions of the same record (a free decay) does not."""
+    from modal.result import free_response_growth
+
+    acc, dt, f_exact = ambient_beam(duration_s=30, seed=7)
+    assert free_response_growth(acc[None], dt, 2 * np.pi * f_exact) > 3
+    for call in (lambda: modal.tcm(acc[:, :3], dt), lambda: modal.cera(acc, dt, 3, cols=1000),
+                 lambda: modal.era(acc, dt, 3, rows=20, cols=1000)):
+        (w,) = _free_response_warnings(call)
+        assert "assumes free (or impulse) response" in str(w.message)
+        assert "modal.correlations" in str(w.message) and "modal.stabilisation" in str(w.message)
+    r = modal.correlations(modal.detrend(acc), 201)
+    assert not _free_response_warnings(lambda: modal.era(r, dt, 3, rows=40, cols=120))
+
+    raw, dt = modal.load_record(PALISADEN, fs=20)
+    filtered = modal.zero_phase_filter(modal.detrend(raw), dt, highpass_hz=0.5)
+    for call in (lambda: modal.tcm(filtered, dt), lambda: modal.cera(raw, dt, 3, cols=2000),
+                 lambda: modal.era(filtered, dt, 4, rows=60, cols=600)):
+        assert len(_free_response_warnings(call)) == 1
+    # Unfiltered, ERA fits the record's drift (lowest "modes" near 0.01 Hz):
+    # 30 min hold fewer than 8 of their periods, too few to judge.
+    assert not _free_response_warnings(lambda: modal.era(raw, dt, 4, rows=60, cols=600))
+    r = modal.correlations(filtered, 121)
+    assert not _free_response_warnings(lambda: modal.era(r, dt, 4, rows=60, cols=61))
+
+
+@pytest.mark.parametrize("n", [1, 2, 121, 5000])
+def test_mean_spectrum_equals_the_direct_sum(n):
+    """The spectrum behind the diagram (one long FFT of the summed
+    autocorrelation when the padding allows) equals the root mean square of
+    every series' tapered, zero-padded amplitude spectrum."""
+    from modal.stabilisation import _mean_spectrum
+
+    y = np.random.default_rng(n).standard_normal((3, n, 2)) * np.array([1.0, 30.0])
+    freqs, spectrum = _mean_spectrum(y, 0.01)
+    n_fft = max(n, 8192)
+    taper = np.hanning(2 * n)[n:]
+    direct = np.abs(np.fft.rfft(y * taper[None, :, None], n=n_fft, axis=1)) / n
+    direct = np.sqrt(np.mean(direct**2, axis=(0, 2)))
+    np.testing.assert_allclose(freqs, np.fft.rfftfreq(n_fft, 0.01))
+    np.testing.assert_allclose(spectrum, direct, rtol=1e-9, atol=1e-12 * direct.max())
