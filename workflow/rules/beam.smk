@@ -37,11 +37,14 @@ rule merge_identified:
     log:
         res("logs/merge_identified_{study}_{interpretation}.log"),
     localrule: True
-    run:
-        from modal.thesis.chunks import merge_chunks
-
-        merge_chunks(input.chunks, output[0], group_by="case")
-        Path(log[0]).write_text(f"merged {len(input.chunks)} chunks\n")
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
+    params:
+        n_chunks=lambda w: len(study_chunks(w.study)),
+    script:
+        "../scripts/merge_chunks.py"
 
 
 # Every beam table in one job (tables.py runs table.py once per table): the

@@ -41,11 +41,14 @@ rule grid_merge:
     log:
         res("logs/grid_merge.log"),
     localrule: True
-    run:
-        from modal.thesis.chunks import merge_grid_chunks
-
-        merge_grid_chunks(input.identified, input.selection, input.record, output)
-        Path(log[0]).write_text(f"merged {len(input.identified)} chunks\n")
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
+    params:
+        n_chunks=len(grid_chunks()),
+    script:
+        "../scripts/merge_chunks.py"
 
 
 # Every grid table in one job (tables.py runs grid_table.py once per table).
