@@ -189,7 +189,7 @@ def beam_outputs():
 
 
 def beam_table_item(number):
-    """What table.py reads of one beam table in rule table (_helpers.item_job):
+    """What table.py reads of one beam table (_helpers.item_job):
     its number, the identified files of its study, its spec and its study's
     methods and interpretations."""
     spec = table_spec(number)
