@@ -6,6 +6,12 @@ figures, notebooks and the report), a no-op rerun, and a rerun after a
 config edit that touches one study.
 
 Run: ``.venv/bin/python benchmarks/bench_regeneration.py``
+
+The jobs import ``modal`` as installed in this interpreter (editable: this
+checkout); to time another checkout's code, run its copy of this script with
+``PYTHONPATH=<that checkout>``. Without compiled packages (``.pyc``) and with
+``PYTHONDONTWRITEBYTECODE`` set, every job compiles its imports from source:
+the script warns when numpy has no bytecode.
 """
 
 from __future__ import annotations
@@ -42,6 +48,11 @@ def timed(workdir, *args):
 
 
 def main():
+    import numpy
+
+    if not list(Path(numpy.__file__).parent.glob("__pycache__/__init__.*.pyc")):
+        print("# warning: numpy is not compiled to bytecode (run workflow/setup.sh): every job will compile "
+              "its imports", file=sys.stderr)
     load = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
