@@ -1,7 +1,7 @@
 # The reproduction summary (computed once), the report notebooks (papermill)
 # and the HTML report (jinja2 template). Notebooks and the HTML read the
-# summary; they compute no verdict. Inputs are the files each one reads, so a
-# changed table re-executes only the notebooks that show it.
+# summary; they compute no verdict. Inputs are the files the notebooks read,
+# so a changed table, figure or summary re-executes them (all six, in one job).
 
 
 rule summary:
