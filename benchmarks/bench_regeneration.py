@@ -6,6 +6,12 @@ figures, notebooks and the report), a no-op rerun, and a rerun after a
 config edit that touches one study.
 
 Run: ``.venv/bin/python benchmarks/bench_regeneration.py``
+
+The jobs import ``modal`` as installed in this interpreter (editable: this
+checkout); to time another checkout's code, run its copy of this script with
+``PYTHONPATH=<that checkout>``. Without compiled packages (``.pyc``) and with
+``PYTHONDONTWRITEBYTECODE`` set, every job compiles its imports from source:
+the script warns when numpy has no bytecode.
 """
 
 from __future__ import annotations
@@ -32,20 +38,31 @@ def timed(workdir, *args):
     machine would need from below."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(os.cpu_count()), "--quiet", "all", *args],
-                   cwd=workdir, check=True, capture_output=True)
+    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(os.cpu_count()), "--quiet", "all",
+                           *args], cwd=workdir, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise SystemExit(f"snakemake failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
     wall = time.perf_counter() - t0
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def main():
+    import numpy
+
+    if not list(Path(numpy.__file__).parent.glob("__pycache__/__init__.*.pyc")):
+        print("# warning: numpy is not compiled to bytecode (run workflow/setup.sh): every job will compile "
+              "its imports", file=sys.stderr)
     load = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        for item in ("Snakefile", "workflow", "config", "modal", "notebooks"):
+        # what a fresh clone holds that the workflow reads (tests/data: the measured record)
+        for item in ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data"):
             src = ROOT / item
-            (shutil.copytree if src.is_dir() else shutil.copy)(src, tmp / item)
+            if src.is_dir():
+                shutil.copytree(src, tmp / item, ignore=shutil.ignore_patterns("__pycache__"))
+            else:
+                shutil.copy(src, tmp / item)
         cold = timed(tmp)
         noop = timed(tmp)
         (tmp / "edit.yaml").write_text(yaml.safe_dump({"studies": {"spillover": {"n_identified": [3, 4, 5, 6]},

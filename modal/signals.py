@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.fft
-from scipy.interpolate import CubicSpline
 
 from ._checks import finite_array, positive_float, positive_int
 
@@ -62,6 +61,8 @@ def _antiderivative(acc, dt):
     """Cubic-spline antiderivative of ``acc`` at the sample times, from 0."""
     if acc.shape[0] < 4:
         raise ValueError(f"acc needs at least 4 samples to integrate, got {acc.shape[0]}")
+    from scipy.interpolate import CubicSpline  # here: importing it costs every job ~0.15 s
+
     t = dt * np.arange(acc.shape[0])
     return CubicSpline(t, acc, axis=0).antiderivative()(t)
 

@@ -37,46 +37,45 @@ rule merge_identified:
     log:
         res("logs/merge_identified_{study}_{interpretation}.log"),
     localrule: True
-    run:
-        from modal.thesis.chunks import merge_chunks
-
-        merge_chunks(input.chunks, output[0], group_by="case")
-        Path(log[0]).write_text(f"merged {len(input.chunks)} chunks\n")
-
-
-rule table:
-    input:
-        code=TABLE_CODE,
-        published=config["published"],
-        identified=lambda w: identified(table_spec(w.number)["study"]),
-    output:
-        csv=report(
-            res("tables/table_{number}.csv"),
-            caption="../report/table.rst",
-            category="Tables",
-            labels={"table": "{number}"},
-        ),
-        md=res("tables/table_{number}.md"),
-        notes=res("notes/table_{number}.txt"),
-    log:
-        res("logs/table_{number}.log"),
-    wildcard_constraints:
-        number=beam_table_pattern(),
     threads: 1
     resources:
         mem_mb=300,
         runtime=10,
     params:
-        spec=lambda w: table_spec(int(w.number)),
-        methods=lambda w: config["studies"][table_spec(int(w.number))["study"]][
-            "methods"
-        ],
-        interpretations=lambda w: config["studies"][
-            table_spec(int(w.number))["study"]
-        ]["interpretations"],
+        n_chunks=lambda w: len(study_chunks(w.study)),
+    script:
+        "../scripts/merge_chunks.py"
+
+
+# Every beam table in one job (tables.py runs table.py once per table): the
+# imports are paid once, not once per table.
+rule table:
+    input:
+        code=TABLE_CODE,
+        published=config["published"],
+        identified=sorted(
+            {f for n in table_numbers() for f in identified(study_of_table(n))}
+        ),
+    output:
+        csv=report(
+            [res(f"tables/table_{n:02d}.csv") for n in table_numbers()],
+            caption="../report/table.rst",
+            category="Tables",
+        ),
+        md=[res(f"tables/table_{n:02d}.md") for n in table_numbers()],
+        notes=note_files(table_numbers()),
+    log:
+        [res(f"logs/table_{n:02d}.log") for n in table_numbers()],
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
+    params:
+        script="table.py",
+        each=[beam_table_item(n) for n in table_numbers()],
         first_seed=config["seeds"]["first"],
     script:
-        "../scripts/table.py"
+        "../scripts/tables.py"
 
 
 rule shape_figures:

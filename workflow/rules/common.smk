@@ -188,8 +188,21 @@ def beam_outputs():
     )
 
 
-def beam_table_pattern():
-    return "|".join(f"{n:02d}" for n in table_numbers())
+def beam_table_item(number):
+    """What table.py reads of one beam table (_helpers.item_job):
+    its number, the identified files of its study, its spec and its study's
+    methods and interpretations."""
+    spec = table_spec(number)
+    study = config["studies"][spec["study"]]
+    return {
+        "wildcards": {"number": f"{number:02d}"},
+        "input": {"identified": identified(spec["study"])},
+        "params": {
+            "spec": spec,
+            "methods": study["methods"],
+            "interpretations": study["interpretations"],
+        },
+    }
 
 
 def tables_of(*studies):
@@ -206,10 +219,6 @@ def grid_figures():
         return []
     figures = config["grid"]["figures"]
     return [figures["layout"], *figures["responses"], *figures["filtered"]]
-
-
-def grid_table_pattern():
-    return "|".join(f"{n:02d}" for n in grid_tables()) or "none"
 
 
 def grid_inputs():

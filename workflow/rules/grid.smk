@@ -41,13 +41,17 @@ rule grid_merge:
     log:
         res("logs/grid_merge.log"),
     localrule: True
-    run:
-        from modal.thesis.chunks import merge_grid_chunks
+    threads: 1
+    resources:
+        mem_mb=300,
+        runtime=10,
+    params:
+        n_chunks=len(grid_chunks()),
+    script:
+        "../scripts/merge_chunks.py"
 
-        merge_grid_chunks(input.identified, input.selection, input.record, output)
-        Path(log[0]).write_text(f"merged {len(input.identified)} chunks\n")
 
-
+# Every grid table in one job (tables.py runs grid_table.py once per table).
 rule grid_table:
     input:
         code=GRID_TABLE_CODE,
@@ -56,26 +60,25 @@ rule grid_table:
         selection=res("grid/selection.csv"),
     output:
         csv=report(
-            res("tables/table_{number}.csv"),
+            [res(f"tables/table_{n:02d}.csv") for n in grid_tables()],
             caption="../report/table.rst",
             category="Tables",
-            labels={"table": "{number}"},
         ),
-        md=res("tables/table_{number}.md"),
-        notes=res("notes/table_{number}.txt"),
+        md=[res(f"tables/table_{n:02d}.md") for n in grid_tables()],
+        notes=note_files(grid_tables()),
     log:
-        res("logs/table_{number}.log"),
-    wildcard_constraints:
-        number=grid_table_pattern(),
+        [res(f"logs/table_{n:02d}.log") for n in grid_tables()],
     threads: 1
     resources:
         mem_mb=300,
         runtime=10,
     params:
+        script="grid_table.py",
+        each=[{"wildcards": {"number": f"{n:02d}"}} for n in grid_tables()],
         spec=config.get("grid"),
         first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
     script:
-        "../scripts/grid_table.py"
+        "../scripts/tables.py"
 
 
 rule grid_figures:

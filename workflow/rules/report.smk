@@ -1,7 +1,7 @@
 # The reproduction summary (computed once), the report notebooks (papermill)
 # and the HTML report (jinja2 template). Notebooks and the HTML read the
-# summary; they compute no verdict. Inputs are the files each one reads, so a
-# changed table re-executes only the notebooks that show it.
+# summary; they compute no verdict. Inputs are the files the notebooks read,
+# so a changed table, figure or summary re-executes them (all six, in one job).
 
 
 rule summary:
@@ -22,27 +22,28 @@ rule summary:
         "../scripts/summary.py"
 
 
+# All notebooks in one job and one kernel (run_notebook.py): a kernel start and
+# the thesis layer's imports cost more than most notebooks' cells.
 rule notebook:
     input:
         code=NOTEBOOK_CODE,
         captions=CAPTIONS,
-        data=lambda w: notebook_inputs(w.name),
-        notebook="notebooks/{name}.ipynb",
+        data=sorted(set(d for name in NOTEBOOKS for d in notebook_inputs(name))),
+        notebooks=[f"notebooks/{name}.ipynb" for name in NOTEBOOKS],
     output:
-        res("notebooks/{name}.ipynb"),
+        [res(f"notebooks/{name}.ipynb") for name in NOTEBOOKS],
     log:
-        # papermill writes the executed notebook here cell by cell: after a
+        # papermill writes each executed notebook here cell by cell: after a
         # failure it holds the traceback; on success it is copied to output.
-        notebook=res("logs/notebook_{name}.ipynb"),
-        text=res("logs/notebook_{name}.log"),
-    wildcard_constraints:
-        name="|".join(NOTEBOOKS),
+        notebooks=[res(f"logs/notebook_{name}.ipynb") for name in NOTEBOOKS],
+        text=res("logs/notebook.log"),
     threads: 1
     resources:
-        mem_mb=800,
+        mem_mb=1000,
         runtime=10,
     params:
-        parameters=lambda w: notebook_parameters(w.name),
+        names=NOTEBOOKS,
+        parameters={name: notebook_parameters(name) for name in NOTEBOOKS},
     script:
         "../scripts/run_notebook.py"
 
