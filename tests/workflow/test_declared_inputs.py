@@ -107,7 +107,8 @@ def test_every_rule_is_audited(shadowed_run):
     ran = {rule for rule, _ in JOB.findall(log)}
     assert listed, "snakemake --list-rules listed no rule"
     unaudited = sorted(set(listed) - ran)
-    assert not unaudited, f"rules the small config does not plan, so the input audit never ran them: {unaudited}"
+    assert not unaudited, ("rules the input audit never ran (the small config does not plan them, or a job "
+                           f"before them failed): {unaudited}")
 
 
 def comparable(path):
@@ -136,8 +137,10 @@ def test_jobs_with_only_their_declared_inputs_write_what_the_full_project_writes
     differ = []
     for output, (rule, wildcards) in sorted(jobs.items()):
         mine, full = work / output, small_workflow / output
-        if not full.exists() or not mine.exists() or comparable(mine) != comparable(full):
-            what = [m.strip() for m in MISSING.findall(mine.read_text(errors="replace"))] if mine.exists() else []
-            differ.append(f"rule {rule} ({wildcards or 'no wildcards'}): {output} differs from the full run's"
-                          + (f": {sorted(set(what))[:5]}" if what else ""))
+        job = f"rule {rule} ({wildcards or 'no wildcards'}): {output}"
+        if not mine.exists() or not full.exists():
+            differ.append(f"{job}: not written by the {'shadowed' if full.exists() else 'full'} run")
+        elif comparable(mine) != comparable(full):
+            what = sorted({m.strip() for m in MISSING.findall(mine.read_text(errors="replace"))})
+            differ.append(f"{job} differs from the full run's" + (f": {what[:5]}" if what else ""))
     assert not differ, "outputs differ when a job has only its declared inputs:\n" + "\n".join(differ)
