@@ -82,8 +82,12 @@ def shadowed_run(tmp_path_factory):
     work = copy_project(tmp_path_factory.mktemp("shadowed"))
     (work / "shadowed.smk").write_text(SHADOWED_SNAKEFILE)
     shadows = tmp_path_factory.mktemp("shadows")
+    # One job at a time, in this snakemake process (--force-use-threads): else
+    # each shadowed job is a new snakemake process that parses the workflow
+    # again (about 6 s CPU each); a job changes the process's working folder.
     proc = run_snakemake(work, TARGET, "--snakefile", "shadowed.smk", "--configfile", SMALL_CONFIG_FILE,
-                         "--shadow-prefix", str(shadows), "--keep-going", check=False)
+                         "--shadow-prefix", str(shadows), "--keep-going", "--force-use-threads", check=False,
+                         cores=1)
     assert (shadows / "shadow").is_dir(), "no job ran in a shadow folder: the wrapper did not take effect"
     return work, proc.stdout + proc.stderr, proc.returncode
 

@@ -41,12 +41,13 @@ def code(*names):
 ENGINE = sorted(
     os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
 )
-STUDY_CODE = code("modal/thesis/__init__.py", "modal/thesis/study.py")
-GRID_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
+# A thesis module's list holds the thesis modules it imports (study.py imports
+# chunks.py; grid_study.py and intermediates.py import study.py).
+STUDY_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/study.py", "modal/thesis/chunks.py"
 )
-TABLE_CODE = code(
-    "modal/thesis/__init__.py",
+GRID_CODE = STUDY_CODE + code("modal/thesis/grid_study.py", "modal/thesis/tables.py")
+TABLE_CODE = STUDY_CODE + code(
     "modal/thesis/tables.py",
     "modal/thesis/report.py",
     "modal/thesis/intermediates.py",
@@ -56,8 +57,7 @@ GRID_TABLE_CODE = (
     + GRID_CODE
     + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
 )
-PLOT_CODE = code(
-    "modal/thesis/__init__.py",
+PLOT_CODE = STUDY_CODE + code(
     "modal/thesis/plots.py",
     "modal/thesis/tables.py",
     "modal/thesis/intermediates.py",
