@@ -117,12 +117,14 @@ def test_every_rule_is_audited(shadowed_run):
 
 def comparable(path):
     """A file's content without what differs between two identical runs: the
-    notebooks' execution metadata (times), the report's date, the zip
-    timestamps of ``np.savez``."""
+    notebooks' execution metadata (times), the random ids of pandas Styler
+    tables and the addresses in object reprs, the report's date, the zip timestamps of ``np.savez``."""
     if path.suffix == ".ipynb":
         cells = json.loads(path.read_text(encoding="utf-8"))["cells"]
-        return [(c["source"], [{k: v for k, v in out.items() if k != "metadata"} for out in c.get("outputs", [])])
-                for c in cells]
+        outputs = [[{k: v for k, v in out.items() if k != "metadata"} for out in c.get("outputs", [])]
+                   for c in cells]
+        text = re.sub(r"T_[0-9a-f]{5}(?=[_\\\"])", "T_<id>", json.dumps(outputs))
+        return [c["source"] for c in cells], re.sub(r" at 0x[0-9a-f]+>", " at 0x<address>>", text)
     if path.suffix == ".npz":
         with np.load(path) as arrays:
             return {k: (arrays[k].dtype.str, arrays[k].shape, arrays[k].tobytes()) for k in arrays.files}
