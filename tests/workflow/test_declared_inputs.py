@@ -10,12 +10,13 @@ later is audited without touching this file. What is not in that folder:
   a declared input, or the job fails (FileNotFoundError names the file) or
   writes something else than in the full project (a notebook that shows
   "has not been produced" instead of a table);
-- code: the job imports ``modal`` (the installed package) and its script
+- code: a script imports ``modal`` (the installed package) and ``_helpers``
   from their own places, and Snakemake hands it the config through
   ``params``; the Snakefile, rules and config YAML are read by Snakemake
   itself before any job. Code a result depends on is declared too
-  (``common.smk``, "What a code edit reruns"), but running without it proves
-  nothing: imports do not go through the working directory.
+  (``common.smk``, "What a code edit reruns"); a script's imports do not go
+  through the working folder, so only the notebooks, whose Jupyter kernel
+  puts its working folder first on ``sys.path``, check their code inputs.
 
 Scripts, ``run:`` blocks and the notebooks' Jupyter kernels all run in the
 job's folder, so one mechanism covers them all.
