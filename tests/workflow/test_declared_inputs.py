@@ -45,7 +45,7 @@ TARGET = "all"  # the Snakefile's default target (an included file sets none)
 JOB = re.compile(r"^(?:local)?rule (\S+):\n((?:    .*\n)+)", re.M)
 ERROR = re.compile(r"^Error in rule (\S+):\n((?:    .*\n)+)", re.M)
 #: What a log of a failed job says about a file it could not open.
-MISSING = re.compile(r".*(No such file|not been produced|is missing|Missing).*")
+MISSING = re.compile(r".*(No such file|does not exist|not been produced|is missing|Missing).*")
 
 
 def _fields(body: str) -> dict:
@@ -83,12 +83,12 @@ def shadowed_run(tmp_path_factory):
     work = copy_project(tmp_path_factory.mktemp("shadowed"))
     (work / "shadowed.smk").write_text(SHADOWED_SNAKEFILE)
     shadows = tmp_path_factory.mktemp("shadows")
-    # One job at a time, in this snakemake process (--force-use-threads): else
-    # each shadowed job is a new snakemake process that parses the workflow
-    # again (about 6 s CPU each); a job changes the process's working folder.
+    # Snakemake runs each shadowed job in a snakemake process of its own (it
+    # changes the working folder), which parses the workflow again: about 6 s
+    # CPU per job. Not --force-use-threads: the scheduler then resolves paths
+    # while a job's thread has moved the process into the job's folder.
     proc = run_snakemake(work, TARGET, "--snakefile", "shadowed.smk", "--configfile", SMALL_CONFIG_FILE,
-                         "--shadow-prefix", str(shadows), "--keep-going", "--force-use-threads", check=False,
-                         cores=1)
+                         "--shadow-prefix", str(shadows), "--keep-going", check=False)
     assert (shadows / "shadow").is_dir(), "no job ran in a shadow folder: the wrapper did not take effect"
     return work, proc.stdout + proc.stderr, proc.returncode
 

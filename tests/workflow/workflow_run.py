@@ -24,9 +24,9 @@ def copy_project(dest: Path) -> Path:
     return dest
 
 
-def run_snakemake(workdir, *args, check=True, cores=2):
+def run_snakemake(workdir, *args, check=True):
     """``python -m snakemake --cores 2 *args`` in ``workdir`` (this interpreter)."""
-    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", str(cores), *args], cwd=workdir,
+    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *args], cwd=workdir,
                           capture_output=True, text=True, timeout=900)
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
