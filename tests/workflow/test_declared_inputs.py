@@ -44,8 +44,13 @@ TARGET = "all"  # the Snakefile's default target (an included file sets none)
 #: failure as "Error in rule NAME:", then indented "key: value" lines.
 JOB = re.compile(r"^(?:local)?rule (\S+):\n((?:    .*\n)+)", re.M)
 ERROR = re.compile(r"^Error in rule (\S+):\n((?:    .*\n)+)", re.M)
-#: What a log of a failed job says about a file it could not open.
-MISSING = re.compile(r".*(No such file|does not exist|not been produced|is missing|Missing).*")
+#: What a failed job's log, or a notebook, says about a file it could not open.
+MISSING = re.compile(r"no such file|does not exist|not (been )?produced|is missing|missing:|\w+Error:", re.I)
+
+
+def missing_lines(text: str) -> list[str]:
+    """The lines (at most 300 characters) of ``text`` that say a file is missing."""
+    return sorted({line.strip()[:300] for line in text.splitlines() if MISSING.search(line)})
 
 
 def _fields(body: str) -> dict:
@@ -64,16 +69,16 @@ def planned_jobs(log: str) -> dict:
 
 
 def failures(log: str, workdir) -> list[str]:
-    """One line per failed job: the rule, its wildcards and what its log
-    says it could not find (else the log's last lines)."""
+    """One line per failed job: the rule, its outputs and what its log says
+    it could not find (else the log's last lines)."""
     found = {}
     for rule, body in ERROR.findall(log):
         fields = _fields(body)
         logs = re.sub(r"\s*\(check log.*\)$", "", fields.get("log", "")).split(", ")
         text = "".join((workdir / f).read_text(errors="replace") for f in logs if f and (workdir / f).is_file())
-        missing = sorted(set(MISSING.findall(text))) or text.splitlines()[-5:] or [fields.get("message", "")]
-        found[(rule, fields.get("wildcards", ""))] = "; ".join(m.strip() for m in missing)
-    return [f"rule {rule} ({wildcards or 'no wildcards'}): {why}" for (rule, wildcards), why in sorted(found.items())]
+        missing = missing_lines(text) or text.splitlines()[-5:] or [fields.get("message", "")]
+        found[(rule, fields.get("output", ""))] = "; ".join(m.strip() for m in missing)
+    return [f"rule {rule} (output {output}): {why}" for (rule, output), why in sorted(found.items())]
 
 
 @pytest.fixture(scope="module")
@@ -148,6 +153,6 @@ def test_jobs_with_only_their_declared_inputs_write_what_the_full_project_writes
         if not mine.exists() or not full.exists():
             differ.append(f"{job}: not written by the {'shadowed' if full.exists() else 'full'} run")
         elif comparable(mine) != comparable(full):
-            what = sorted({m.strip() for m in MISSING.findall(mine.read_text(errors="replace"))})
+            what = missing_lines(mine.read_text(errors="replace"))
             differ.append(f"{job} differs from the full run's" + (f": {what[:5]}" if what else ""))
     assert not differ, "outputs differ when a job has only its declared inputs:\n" + "\n".join(differ)
