@@ -90,10 +90,12 @@ def shadowed_run(tmp_path_factory):
     shadows = tmp_path_factory.mktemp("shadows")
     # Snakemake runs each shadowed job in a snakemake process of its own (it
     # changes the working folder), which parses the workflow again: about 6 s
-    # CPU per job. Not --force-use-threads: the scheduler then resolves paths
-    # while a job's thread has moved the process into the job's folder.
+    # CPU per job, twice the small run's CPU time in all (17 min on 2 cores at
+    # load 8-10; hence the longer timeout). Not --force-use-threads: the
+    # scheduler then resolves paths while a job's thread has moved the process
+    # into the job's folder.
     proc = run_snakemake(work, TARGET, "--snakefile", "shadowed.smk", "--configfile", SMALL_CONFIG_FILE,
-                         "--shadow-prefix", str(shadows), "--keep-going", check=False)
+                         "--shadow-prefix", str(shadows), "--keep-going", check=False, timeout=2400)
     assert (shadows / "shadow").is_dir(), "no job ran in a shadow folder: the wrapper did not take effect"
     return work, proc.stdout + proc.stderr, proc.returncode
 
