@@ -382,29 +382,3 @@ def test_interrupted_run_resumes_with_the_main_command(small_workflow, tmp_path,
     for target in FAULT_TARGETS:
         assert (work / target).read_bytes() == (small_workflow / target).read_bytes(), target
 
-
-# --- every rule declares every file it reads ----------------------------------------
-AUDITED = [("table", {"number": "01"}), ("grid_table", {"number": "10"}), ("shape_figures", {}),
-           ("noise_figures", {}), ("cera_sensitivity", {}), ("grid_figures", {}), ("summary", {}),
-           ("report_html", {})]
-
-
-@pytest.fixture(scope="module")
-def audit_copy(small_workflow, tmp_path_factory):
-    """A copy of the finished small run: the audited scripts rewrite their outputs."""
-    import shutil
-    dest = tmp_path_factory.mktemp("audit") / "wf"
-    shutil.copytree(small_workflow, dest, ignore=shutil.ignore_patterns(".snakemake"))
-    return dest
-
-
-@pytest.mark.parametrize("rule, wildcards", AUDITED, ids=[r for r, _ in AUDITED])
-def test_rule_declares_every_file_its_script_reads(audit_copy, rule, wildcards):
-    """The script, run by hand with an audit hook on ``open``, reads no file
-    under results/, config/, data/ or notebooks/ that its rule does not declare."""
-    proc = subprocess.run([sys.executable, str(ROOT / "tests/workflow/audit_inputs.py"), rule,
-                           *(f"{k}={v}" for k, v in wildcards.items()), f"--configfile={SMALL_CONFIG_FILE}"],
-                          cwd=audit_copy, capture_output=True, text=True, timeout=300)
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    line = [ln for ln in proc.stdout.splitlines() if ln.startswith("UNDECLARED:")][-1]
-    assert line == "UNDECLARED:", f"rule {rule} reads undeclared files: {line}"

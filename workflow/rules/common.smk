@@ -41,12 +41,13 @@ def code(*names):
 ENGINE = sorted(
     os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
 )
-STUDY_CODE = code("modal/thesis/__init__.py", "modal/thesis/study.py")
-GRID_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/grid_study.py", "modal/thesis/tables.py"
+# A thesis module's list holds the thesis modules it imports (study.py imports
+# chunks.py; grid_study.py and intermediates.py import study.py).
+STUDY_CODE = code(
+    "modal/thesis/__init__.py", "modal/thesis/study.py", "modal/thesis/chunks.py"
 )
-TABLE_CODE = code(
-    "modal/thesis/__init__.py",
+GRID_CODE = STUDY_CODE + code("modal/thesis/grid_study.py", "modal/thesis/tables.py")
+TABLE_CODE = STUDY_CODE + code(
     "modal/thesis/tables.py",
     "modal/thesis/report.py",
     "modal/thesis/intermediates.py",
@@ -56,8 +57,7 @@ GRID_TABLE_CODE = (
     + GRID_CODE
     + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
 )
-PLOT_CODE = code(
-    "modal/thesis/__init__.py",
+PLOT_CODE = STUDY_CODE + code(
     "modal/thesis/plots.py",
     "modal/thesis/tables.py",
     "modal/thesis/intermediates.py",
@@ -302,6 +302,14 @@ def all_tables():
     return table_numbers() + grid_tables()
 
 
+def all_figures():
+    return (
+        numbers(config["shape_figures"])
+        + numbers(config["noise_figures"])
+        + grid_figures()
+    )
+
+
 def notebook_inputs(name):
     """The workflow outputs a notebook reads: the summary (its verdicts) and
     the tables, notes and figures of its chapter."""
@@ -310,7 +318,8 @@ def notebook_inputs(name):
 
 def chapter_outputs(name):
     if name == "00_summary":
-        return []
+        # its inventory checks which tables and figures exist
+        return table_files(all_tables()) + figure_files(all_figures())
     if name == "01_method_demo":
         numbers_ = tables_of("demo")
         return (
