@@ -258,10 +258,14 @@ def warn_not_free_response(result: ModalResult, y, dt) -> ModalResult:
 
     growth = free_response_growth(y, dt, result.omega)
     if growth > FREE_RESPONSE_MAX_GROWTH:
+        found = result.freq_hz[np.isfinite(result.freq_hz) & (result.freq_hz > 0)]
+        lowest = f", {found.min():.4g} Hz" if found.size else ""
         warnings.warn(
             f"{result.method}: the data do not look like a free response: their energy keeps rising "
             f"({growth:.3g} x the initial energy over the record), as in an ambient (stationary) record. "
             f"The {result.method.upper()} assumes free (or impulse) response; for ambient data use "
-            "modal.correlations and then modal.era or modal.stabilisation on the correlation functions",
+            "modal.correlations and then modal.era or modal.stabilisation on the correlation functions. "
+            "(On a free decay it means the model missed a mode below the lowest it found"
+            f"{lowest}, whose oscillation the energy windows do not average out: raise the model order.)",
             ModalWarning, stacklevel=3)
     return result

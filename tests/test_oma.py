@@ -368,3 +368,17 @@ def test_mean_spectrum_equals_the_direct_sum(n):
     direct = np.sqrt(np.mean(direct**2, axis=(0, 2)))
     np.testing.assert_allclose(freqs, np.fft.rfftfreq(n_fft, 0.01))
     np.testing.assert_allclose(spectrum, direct, rtol=1e-9, atol=1e-12 * direct.max())
+
+
+def test_a_model_missing_the_lowest_mode_is_told_so():
+    """A free decay of a weak 2 Hz and a strong 30 Hz mode, one channel: with
+    one mode the ERA finds 30 Hz, its windows (4 periods of 30 Hz) do not
+    average out the 2 Hz oscillation, and the warning names that cause and the
+    lowest mode found; with both modes there is no warning."""
+    dt = 1 / 400
+    t = dt * np.arange(4000)
+    y = (0.3 * np.exp(-0.002 * 2 * np.pi * 2 * t) * np.cos(2 * np.pi * 2 * t)
+         + np.exp(-0.005 * 2 * np.pi * 30 * t) * np.cos(2 * np.pi * 30 * t))[:, None]
+    (w,) = _free_response_warnings(lambda: modal.era(y, dt, 1, rows=40, cols=400))
+    assert "missed a mode below the lowest it found, 29.95 Hz" in str(w.message)
+    assert not _free_response_warnings(lambda: modal.era(y, dt, 2, rows=40, cols=400))
