@@ -106,25 +106,27 @@ class ModalResult:
         """Natural frequencies in Hz."""
         return self.omega / (2 * np.pi)
 
+    def columns(self) -> dict:
+        """:meth:`to_frame`'s columns, in its order, as a dict of arrays
+        (``method`` a scalar): for callers that add columns of their own and
+        build one DataFrame."""
+        return {
+            "mode": np.arange(1, self.n_modes + 1),
+            "method": self.method,
+            "omega": self.omega,
+            "freq_hz": self.freq_hz,
+            "damping": self.damping,
+            **{name: getattr(self, name) for name in FLAGS},
+            "mamc": self.mamc,
+            "mpc": self.mpc,
+            **{f"phi_{i + 1}": row for i, row in enumerate(self.shapes)},
+        }
+
     def to_frame(self) -> pd.DataFrame:
-        """One row per identified mode: mode, omega, freq_hz, damping, the flags
-        real_pole, unstable, aliased, short_window, then mamc, mpc, and the shape
-        entries as ``phi_1 ... phi_l``."""
-        frame = pd.DataFrame(
-            {
-                "mode": np.arange(1, self.n_modes + 1),
-                "method": self.method,
-                "omega": self.omega,
-                "freq_hz": self.freq_hz,
-                "damping": self.damping,
-                **{name: getattr(self, name) for name in FLAGS},
-                "mamc": self.mamc,
-                "mpc": self.mpc,
-            }
-        )
-        for i, row in enumerate(self.shapes):
-            frame[f"phi_{i + 1}"] = row
-        return frame
+        """One row per identified mode: mode, method, omega, freq_hz, damping,
+        the flags real_pole, unstable, aliased, short_window, then mamc, mpc,
+        and the shape entries as ``phi_1 ... phi_l``."""
+        return pd.DataFrame(self.columns())
 
 
 def normalise_shapes(shapes: np.ndarray) -> np.ndarray:

@@ -16,7 +16,7 @@ import pandas as pd
 
 from ..cera import cera
 from ..era import era
-from ..result import FLAGS, ModalWarning
+from ..result import ModalWarning
 from ..simulate import Record, beam_impulse_response, with_noise
 from ..structures import SimplySupportedBeam
 from ..tcm import tcm
@@ -104,23 +104,13 @@ def study_cases(study: Mapping) -> dict[str, dict]:
 
 
 def _frame(result, **labels) -> pd.DataFrame:
-    """``labels`` then :meth:`ModalResult.to_frame`'s columns without ``method``
-    and with ``damping`` named ``damping_id``: built in one constructor call,
-    not by renaming and inserting into ``to_frame()`` (that took more time than
-    the identification itself; tests/test_identification.py checks they agree)."""
-    columns = {
-        **labels,
-        "mode": np.arange(1, result.n_modes + 1),
-        "omega": result.omega,
-        "freq_hz": result.freq_hz,
-        "damping_id": result.damping,
-        **{name: getattr(result, name) for name in FLAGS},
-        "mamc": result.mamc,
-        "mpc": result.mpc,
-    }
-    for i, row in enumerate(result.shapes):
-        columns[f"phi_{i + 1}"] = row
-    return pd.DataFrame(columns)
+    """``labels`` then :meth:`ModalResult.columns` without ``method`` and with
+    ``damping`` named ``damping_id``, in one DataFrame constructor call (renaming
+    and inserting into ``to_frame()`` took more time than the identification
+    itself; tests/test_identification.py checks they agree)."""
+    columns = result.columns()
+    del columns["method"]
+    return pd.DataFrame({**labels, **{("damping_id" if k == "damping" else k): v for k, v in columns.items()}})
 
 
 def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds: Mapping,
