@@ -382,3 +382,178 @@ def test_a_model_missing_the_lowest_mode_is_told_so():
     (w,) = _free_response_warnings(lambda: modal.era(y, dt, 1, rows=40, cols=400))
     assert "missed a mode below the lowest it found, 29.95 Hz" in str(w.message)
     assert not _free_response_warnings(lambda: modal.era(y, dt, 2, rows=40, cols=400))
+
+
+def _alternating(amplitudes, window):
+    """One channel: +-a alternating within each window of ``window`` (even)
+    samples, a from ``amplitudes``; each window has zero mean and energy a^2."""
+    return np.concatenate([a * np.resize([1.0, -1.0], window) for a in amplitudes])[None, :, None]
+
+
+def test_free_response_growth_edge_cases_exact():
+    """free_response_growth on records whose window energies are known exactly
+    (mutation run of issue 15): non-positive and non-finite frequencies are
+    ignored, means are removed per channel, the no-mode window is n // 8
+    samples (down to one sample), a silent first window gives inf (nan when
+    all is silent), and no numpy warning escapes."""
+    import warnings
+
+    from modal.result import free_response_growth
+
+    dt, f = 0.01, 2.5
+    t = dt * np.arange(160)
+    amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
+    y = np.concatenate([a * np.sin(2 * np.pi * f * t) for a in amplitudes])[None, :, None]
+    w = 2 * np.pi * f
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert free_response_growth(y, dt, [w]) == pytest.approx(11, rel=1e-9)
+        # zero and infinite frequencies are ignored (not a window of inf samples)
+        assert free_response_growth(y, dt, [w, 0.0, np.inf, np.nan]) == pytest.approx(11, rel=1e-9)
+        # a channel's constant offset is removed per channel, not with the grand mean
+        two = np.concatenate([y + 5.0, 0.5 * y - 3.0], axis=2)
+        assert free_response_growth(two, dt, [w]) == pytest.approx(11, rel=1e-9)
+        # a mode at the Nyquist rate beats infinitely slowly: too short to tell, silently
+        assert np.isnan(free_response_growth(y, dt, [np.pi / dt]))
+        # no mode: windows of n // 8 samples; 1007 // 8 = 125 (round(1007 / 8) would be 126)
+        x = np.zeros((1, 1007, 1))
+        x[0, :125:2, 0], x[0, 1:125:2, 0] = 1.0, -1.0
+        x[0, 126:250:2, 0], x[0, 125:249:2, 0] = 3.0, -3.0  # window 1: 62 pairs of +-3, one 0 at 249
+        x = x - x[:, :1000].mean()  # zero mean over the 1000 samples analysed; the tail is cut
+        tail = x[0, :1000, 0].reshape(8, 125)
+        energy = (tail ** 2).mean(axis=1)
+        expected = np.sum(np.maximum(np.diff(energy), 0)) / energy[0]
+        assert free_response_growth(x, dt, []) == pytest.approx(expected, rel=1e-12)
+        assert expected > 7
+        # 8 to 15 samples and no mode: windows of one sample each
+        one = np.array([0.5, -0.5, 1.0, -1.0, 0.0, 0.0, 0.5, -0.5])[None, :, None]
+        assert free_response_growth(one, dt, []) == pytest.approx((0.75 + 0.25) / 0.25, rel=1e-12)  # rises 0.25 -> 1 and 0 -> 0.25
+        # energy in the first window only, then silence: no rise
+        assert free_response_growth(_alternating([0.5, 0, 0, 0, 0, 0, 0, 0], 10), dt, []) == 0.0
+        # a silent first window: inf as soon as anything follows (however small), nan if all is silent
+        assert free_response_growth(_alternating([0, 0.5, 0, 0, 0, 0, 0, 0], 10), dt, []) == np.inf
+        assert np.isnan(free_response_growth(np.zeros((1, 80, 2)), dt, []))
+
+
+def test_warn_not_free_response_threshold_and_lowest_frequency():
+    """The warning fires for a growth above FREE_RESPONSE_MAX_GROWTH = 1 only
+    (exactly 1 is not above), and names the lowest positive finite frequency."""
+    import warnings
+    from types import SimpleNamespace
+
+    from modal.result import free_response_growth, warn_not_free_response
+
+    dt = 0.01
+    exactly_one = _alternating([1, 0, 1, 0, 0, 0, 0, 0], 2)  # rises: 1 over a first energy of 1
+    assert free_response_growth(exactly_one, dt, []) == 1.0
+    quiet = SimpleNamespace(method="era", omega=np.array([]), freq_hz=np.array([]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert warn_not_free_response(quiet, exactly_one, dt) is quiet
+    twice = _alternating([1, 0, 1, 0, 1, 0, 0, 0], 2)
+    found = SimpleNamespace(method="era", omega=np.array([]), freq_hz=np.array([np.nan, -1.0, 0.0, 0.5, 3.0, np.inf]))
+    with pytest.warns(modal.ModalWarning, match="2 x the initial energy") as record:
+        warn_not_free_response(found, twice, dt)
+    (w,) = record
+    assert "lowest it found, 0.5 Hz" in str(w.message)
+
+
+def test_paired_mac_is_the_diagonal_of_mac():
+    """paired_mac(a, b) is diag(mac(a, b)) for columns of any norms."""
+    from modal.indicators import mac, paired_mac
+
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(5, 4)) * np.array([1.0, 3.0, 0.2, 7.0])
+    b = (rng.normal(size=(5, 4)) + 1j * rng.normal(size=(5, 4))) * np.array([2.0, 0.5, 1.0, 4.0])
+    np.testing.assert_allclose(paired_mac(a, b), np.diag(mac(a, b)), rtol=1e-12)
+    np.testing.assert_allclose(paired_mac(a, 3 * a), np.ones(4), rtol=1e-12)
+
+
+def test_stability_criteria_bounds_and_names():
+    """StabilityCriteria accepts the closed bounds (mac_min = 1, min_poles = 1)
+    and refuses the rest naming the argument."""
+    from modal.stabilisation import StabilityCriteria
+
+    assert StabilityCriteria(mac_min=1.0, mpc_min=1.0, mamc_min=0.0, min_poles=1).mac_min == 1.0
+    for kwargs, name in [({"freq_rtol": 0.0}, "freq_rtol"), ({"cluster_distance": -1.0}, "cluster_distance"),
+                         ({"mac_min": -0.1}, "mac_min"), ({"mamc_min": 1.5}, "mamc_min"),
+                         ({"min_poles": 0}, "min_poles"), ({"min_poles": 2.5}, "min_poles")]:
+        with pytest.raises(ValueError, match=f"^{name} must"):
+            StabilityCriteria(**kwargs)
+
+
+def test_stability_of_a_single_pole():
+    """A table of one pole (the lowest order) has nothing to compare with:
+    not stable, and no index past the table."""
+    from modal.stabilisation import StabilityCriteria, _stability
+
+    table = {"order": np.array([2]), "freq_hz": np.array([1.5]), "damping": np.array([0.01])}
+    flags = _stability(table, np.ones((1, 3)), StabilityCriteria())
+    for key in ("stable_freq", "stable_damping", "stable_shape", "stable"):
+        np.testing.assert_array_equal(flags[key], [False])
+
+
+def _pole_table(freqs, shapes, stable=None):
+    n = len(freqs)
+    rng = np.random.default_rng(5)
+    return ({"order": 2 * np.arange(1, n + 1), "freq_hz": np.asarray(freqs, float),
+             "damping": 0.01 + 0.01 * rng.random(n), "mpc": rng.random(n), "mamc": rng.random(n),
+             "stable": np.ones(n, bool) if stable is None else np.asarray(stable, bool), "physical": np.ones(n, bool)},
+            np.asarray(shapes, float))
+
+
+def test_select_modes_on_a_known_pole_table():
+    """_select_modes on hand-made poles: clusters of >= min_poles poles are
+    modes numbered 1, 2, ... by frequency, with the members' mean and sample
+    (ddof=1) standard deviation, and the medoid's shape (the member closest,
+    in total, to the other members of its cluster)."""
+    from modal.stabilisation import _select_modes
+
+    e = np.eye(3)
+    a = [e[0] + [0, 1e-4 * i, 0] for i in range(3)]  # near-identical shapes, told apart by index
+    freqs = [2.0, 2.002, 1.998, 1.003, 1.0, 0.998, 5.0, 3.0, 3.001]
+    shapes = [e[1], e[1], e[1], a[0], a[1], a[2], e[2], e[2], e[2]]
+    poles, pole_shapes = _pole_table(freqs, shapes, stable=[1, 1, 1, 1, 1, 1, 0, 1, 1])
+    labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.006, min_poles=3)
+    np.testing.assert_array_equal(labels, [2, 2, 2, 1, 1, 1, 0, 0, 0])
+    assert labels.dtype.kind == "i"
+    np.testing.assert_array_equal(modes["mode"], [1, 2])
+    np.testing.assert_array_equal(modes["n_poles"], [3, 3])
+    for row, members in ((0, [3, 4, 5]), (1, [0, 1, 2])):
+        for column in ("freq_hz", "damping", "mpc", "mamc"):
+            assert modes[column].iloc[row] == pytest.approx(poles[column][members].mean(), rel=1e-12)
+        assert modes["freq_std_hz"].iloc[row] == pytest.approx(np.std(poles["freq_hz"][members], ddof=1), rel=1e-9)
+        assert modes["damping_std"].iloc[row] == pytest.approx(np.std(poles["damping"][members], ddof=1), rel=1e-9)
+    np.testing.assert_array_equal(reps[:, 0], a[1])  # the middle frequency, 1.0 Hz, is the medoid
+    np.testing.assert_array_equal(reps[:, 1], e[1])
+
+
+@pytest.mark.parametrize("n_poles, min_poles, n_modes", [(3, 3, 1), (2, 2, 1), (2, 3, 0), (1, 1, 0)])
+def test_select_modes_needs_min_poles_candidates(n_poles, min_poles, n_modes):
+    """Exactly min_poles (at least 2) coincident poles make a mode; fewer make
+    none, and then the shapes are an empty (n_channels, 0) array."""
+    from modal.stabilisation import _select_modes
+
+    poles, pole_shapes = _pole_table([1.0] * n_poles, [[1.0, 2.0, 0.0, 1.0]] * n_poles)
+    labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=min_poles)
+    assert len(modes) == n_modes and reps.shape == (4, n_modes)
+    np.testing.assert_array_equal(labels, [n_modes] * n_poles)
+
+
+def test_select_modes_without_a_large_enough_cluster():
+    """Three candidates in three distant clusters, min_poles 3: no mode, and
+    the shapes are an empty (n_channels, 0) array."""
+    from modal.stabilisation import _select_modes
+
+    poles, pole_shapes = _pole_table([1.0, 2.0, 3.0], [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
+    labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
+    assert modes.empty and reps.shape == (2, 0) and not labels.any()
+
+
+def test_stabilisation_reports_progress_per_order():
+    """progress(done, total) after each order: (1, 6), ..., (6, 6) for orders 2..12."""
+    acc, dt, _ = ambient_beam(duration_s=30)
+    r = modal.correlations(modal.detrend(acc), 81)
+    calls = []
+    modal.stabilisation(r, dt, 12, rows=40, cols=40, progress=lambda done, total: calls.append((done, total)))
+    assert calls == [(i, 6) for i in range(1, 7)]
