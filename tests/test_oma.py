@@ -548,6 +548,9 @@ def test_select_modes_without_a_large_enough_cluster():
     poles, pole_shapes = _pole_table([1.0, 2.0, 3.0], [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
     assert modes.empty and reps.shape == (2, 0) and not labels.any()
+    from modal.stabilisation import MODE_COLUMNS
+
+    assert list(modes.columns) == list(MODE_COLUMNS) and all(modes.dtypes == float)
 
 
 def test_stabilisation_reports_progress_per_order():
