@@ -274,11 +274,8 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
     every lower order from one decomposition. ``window`` (s) is the span of
     data behind the Hankel matrix, for the ``short_window`` flag.
     """
-    l, m = n_channels, n_sets
-    d_isqrt = 1 / np.sqrt(d)
-    phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]  # Eq. (41)
-    z, real, complex_shapes, histories = eigen_poles(phi, p[:l] * np.sqrt(d)[None, :], np.sqrt(d)[:, None] * qt)
-    poles = pole_indicators(z, real, complex_shapes, histories, dt, m)
+    z, real, complex_shapes, histories = eigen_poles(*realisation(p, d, qt, h1, n_channels))
+    poles = pole_indicators(z, real, complex_shapes, histories, dt, n_sets)
     omega, shapes, cols_ = sort_modes(poles.pop("omega"), poles.pop("shapes"), **poles)
     return ModalResult(
         omega=omega,
@@ -294,6 +291,22 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
         singular_values=d if singular_values is None else singular_values,
         eigenvalues=cols_["z"],
     )
+
+
+def realisation(p, d, qt, h1, n_channels):
+    """The realisation of ``P D Q^T`` and ``H(1)``, as :func:`eigen_poles`
+    takes it: ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` (Eq. 41), the output
+    matrix ``E_p^T P D^{1/2}`` (Eq. 43, the first ``n_channels`` rows of
+    ``P``) and the state sequence ``D^{1/2} Q^T`` over the Hankel columns.
+
+    The realisation of a lower order ``k`` is the leading ``k x k`` block of
+    ``Phi``, the first ``k`` columns of the output matrix and the first ``k``
+    rows of the states (:func:`modal.stabilisation` uses this).
+    """
+    sqrt_d = np.sqrt(d)
+    d_isqrt = 1 / sqrt_d
+    phi = (d_isqrt[:, None] * (p.T @ h1 @ qt.T)) * d_isqrt[None, :]  # Eq. (41)
+    return phi, p[:n_channels] * sqrt_d[None, :], sqrt_d[:, None] * qt
 
 
 def eigen_poles(phi, output, states):

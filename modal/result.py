@@ -225,8 +225,7 @@ def free_response_growth(y, dt, omega) -> float:
         Identified natural frequencies (rad/s); non-finite or non-positive
         ones are ignored.
     """
-    omega = np.asarray(omega, dtype=float)
-    omega = omega[np.isfinite(omega) & (omega > 0)]
+    omega = _oscillating(omega)
     n_samples = y.shape[1]
     if omega.size:
         # A sampled mode's energy oscillates at 2 omega dt, folded into [0, pi]
@@ -249,6 +248,13 @@ def free_response_growth(y, dt, omega) -> float:
     return float(np.sum(np.maximum(np.diff(energy), 0)) / energy[0])
 
 
+def _oscillating(frequencies) -> np.ndarray:
+    """The finite, positive entries of ``frequencies`` (real poles and
+    non-finite entries dropped)."""
+    frequencies = np.asarray(frequencies, dtype=float)
+    return frequencies[np.isfinite(frequencies) & (frequencies > 0)]
+
+
 def warn_not_free_response(result: ModalResult, y, dt) -> ModalResult:
     """Issue a :class:`ModalWarning` when ``y`` is not consistent with a free
     (or impulse) response, :func:`free_response_growth` above
@@ -260,7 +266,7 @@ def warn_not_free_response(result: ModalResult, y, dt) -> ModalResult:
 
     growth = free_response_growth(y, dt, result.omega)
     if growth > FREE_RESPONSE_MAX_GROWTH:
-        found = result.freq_hz[np.isfinite(result.freq_hz) & (result.freq_hz > 0)]
+        found = _oscillating(result.freq_hz)
         lowest = f", {found.min():.4g} Hz" if found.size else ""
         warnings.warn(
             f"{result.method}: the data do not look like a free response: their energy keeps rising "

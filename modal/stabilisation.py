@@ -21,7 +21,7 @@ import pandas as pd
 import scipy.fft
 
 from ._checks import nonnegative_float, positive_float, positive_int, records
-from .era import decompose, eigen_poles, pole_indicators
+from .era import decompose, eigen_poles, pole_indicators, realisation
 from .hankel import hankel
 from .indicators import mac, paired_mac
 from .result import ModalWarning
@@ -230,10 +230,7 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
     pole_shapes : ndarray, shape (n_poles, l)
     """
     k = orders[-1] if orders else 0
-    sqrt_d = np.sqrt(d[:k])
-    phi = (p[:, :k].T @ h1 @ qt[:k].T) / np.outer(sqrt_d, sqrt_d)  # Eq. (41)
-    output = p[:l, :k] * sqrt_d[None, :]  # Eq. (43)
-    states = sqrt_d[:, None] * qt[:k]
+    phi, output, states = realisation(p[:, :k], d[:k], qt[:k], h1, l)  # Eqs. (41), (43)
     parts = []
     for done, order in enumerate(orders, 1):
         parts.append((order, *eigen_poles(phi[:order, :order], output[:, :order], states[:order])))
