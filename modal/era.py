@@ -107,6 +107,9 @@ GRAM_MAX_STEPS = 3
 #: rounding is some 1e-15 ``sigma_1``).
 GRAM_REL_TOL = 1e-12
 GRAM_ABS_TOL = 1e-13
+#: :func:`leading_eigenpairs` bisects (dsyevr) for fewer than this fraction of
+#: the eigenvalues, and computes all of them (dsterf) for more.
+BISECTION_MAX_FRACTION = 0.1
 
 
 def decompose(h0, order, method="auto", block=None):
@@ -237,12 +240,12 @@ def leading_eigenpairs(sym, k):
     LAPACK's tridiagonal reduction (dsytrd), every eigenvalue of the
     tridiagonal matrix (dsterf, ``O(n^2)``), inverse iteration for the ``k``
     wanted eigenvectors (dstein) and the back-transformation of those ``k``
-    only (dormqr on dsytrd's reflectors). This is dsyevx's route with dsterf in
-    place of bisection (dstebz): bisecting 60 eigenvalues of a 360 x 360
-    tridiagonal matrix costs more than all 360 by dsterf (4.7 against 0.9 ms,
-    measured), and dsyevd's back-transformation of all ``n`` eigenvectors is
-    avoided. When dstein does not converge, scipy.linalg.eigh's subset driver
-    (dsyevr) is used instead.
+    only (dormqr on dsytrd's reflectors): dsyevx's route with dsterf in place
+    of bisection (dstebz), which costs more once ``k`` is a tenth of ``n``
+    (60 eigenvalues of a 360 x 360 tridiagonal matrix: 4.7 ms by bisection,
+    0.9 ms for all 360 by dsterf, measured). For fewer eigenvalues
+    (:data:`BISECTION_MAX_FRACTION`), or when dstein does not converge,
+    scipy.linalg.eigh's subset driver (dsyevr) is used.
     """
     from scipy.linalg import eigh
     from scipy.linalg.lapack import dormqr, dstein, dsterf, dsytrd
@@ -251,18 +254,17 @@ def leading_eigenpairs(sym, k):
     if k >= n - 1:
         lam, u = np.linalg.eigh(sym)
         return lam[::-1][:k], u[:, ::-1][:, :k]
-    # the lower triangle: Q = H(1) ... H(n-1), reflector i stored below A(i+1, i), as geqrf stores
-    # the QR factors of A(2:n, 1:n-1) (LAPACK's dormtr applies them so)
-    reflectors, diag, off, tau, info = dsytrd(sym, lower=1)
-    lam, info_sterf = dsterf(diag, off)
-    wanted = lam[n - k:]  # increasing, as dstein wants them (one block: no split given)
-    vectors, info_stein = dstein(diag, off, wanted, np.ones(n, dtype=np.int32), np.full(n, n, dtype=np.int32))
-    if info or info_sterf or info_stein:
-        lam, u = eigh(sym, subset_by_index=[n - k, n - 1])
-    else:
-        head, _, info = dormqr("L", "N", reflectors[1:, :-1], tau, vectors[1:], lwork=max(1, 64 * k))
-        u = np.vstack([vectors[:1], head])
-        lam = wanted
+    if k >= BISECTION_MAX_FRACTION * n:
+        # the lower triangle: Q = H(1) ... H(n-1), reflector i stored below A(i+1, i), as geqrf
+        # stores the QR factors of A(2:n, 1:n-1) (LAPACK's dormtr applies them so)
+        reflectors, diag, off, tau, info = dsytrd(sym, lower=1)
+        lam, info_sterf = dsterf(diag, off)
+        wanted = lam[n - k:]  # increasing, as dstein wants them (one block: no split given)
+        vectors, info_stein = dstein(diag, off, wanted, np.ones(n, dtype=np.int32), np.full(n, n, dtype=np.int32))
+        if not (info or info_sterf or info_stein):
+            head = dormqr("L", "N", reflectors[1:, :-1], tau, vectors[1:], lwork=max(1, 64 * k))[0]
+            return wanted[::-1], np.vstack([vectors[:1], head])[:, ::-1]
+    lam, u = eigh(sym, subset_by_index=[n - k, n - 1])
     return lam[::-1], u[:, ::-1]
 
 

@@ -117,7 +117,7 @@ def _block_diagonal(rng):
     return np.block([[block, np.zeros_like(block)], [np.zeros_like(block), block]])
 
 
-@pytest.mark.parametrize("n, k", [(157, 23), (40, 39), (40, 40), (12, 1)])
+@pytest.mark.parametrize("n, k", [(157, 23), (157, 12), (40, 39), (40, 40), (12, 1)])
 def test_leading_eigenpairs_against_numpy(n, k):
     rng = np.random.default_rng(n + k)
     a = rng.standard_normal((n, n + 3))
@@ -141,14 +141,21 @@ def test_leading_eigenpairs_of_a_split_matrix_with_double_eigenvalues():
 
 
 def test_leading_eigenpairs_falls_back_when_inverse_iteration_fails(monkeypatch):
-    """dstein reporting non-convergence: the eigenpairs come from scipy's eigh."""
+    """dstein reporting non-convergence: the eigenpairs come from scipy's eigh
+    (20 of 140: above the bisection fraction, so dstein is tried first)."""
     import scipy.linalg.lapack
 
-    failing = lambda *args: (np.full((args[0].size, args[2].size), np.nan), 1)  # noqa: E731
+    calls = []
+
+    def failing(d, e, w, iblock, isplit):
+        calls.append(w.size)
+        return np.full((d.size, w.size), np.nan), 1
+
     monkeypatch.setattr(scipy.linalg.lapack, "dstein", failing)
     sym = _block_diagonal(np.random.default_rng(6))
-    lam, u = leading_eigenpairs(sym, 10)
-    np.testing.assert_allclose(lam, np.linalg.eigvalsh(sym)[::-1][:10], rtol=1e-12)
+    lam, u = leading_eigenpairs(sym, 20)
+    assert calls == [20]
+    np.testing.assert_allclose(lam, np.linalg.eigvalsh(sym)[::-1][:20], rtol=1e-12)
     np.testing.assert_allclose(sym @ u, u * lam, atol=1e-12 * lam[0])
 
 
