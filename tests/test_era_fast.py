@@ -140,16 +140,25 @@ def test_leading_eigenpairs_of_a_split_matrix_with_double_eigenvalues():
     np.testing.assert_allclose(u.T @ u, np.eye(30), atol=1e-13)
 
 
-def test_leading_eigenpairs_falls_back_when_inverse_iteration_fails(monkeypatch):
-    """dstein reporting non-convergence: the eigenpairs come from scipy's eigh."""
+@pytest.mark.parametrize("routine", ["dstein", "dsterf"])
+def test_leading_eigenpairs_falls_back_when_a_lapack_step_fails(monkeypatch, routine):
+    """dstein (inverse iteration) or dsterf (the eigenvalues) reporting
+    non-convergence, with garbage in its output: the eigenpairs come from
+    scipy's eigh, finite and orthonormal (NaN vectors would pass the residual
+    check, assert_allclose taking NaN for equal to NaN)."""
     import scipy.linalg.lapack
 
-    failing = lambda *args: (np.full((args[0].size, args[2].size), np.nan), 1)  # noqa: E731
-    monkeypatch.setattr(scipy.linalg.lapack, "dstein", failing)
+    failing = {
+        "dstein": lambda *args: (np.full((args[0].size, args[2].size), np.nan), 1),
+        "dsterf": lambda diag, off: (np.zeros_like(diag), 1),
+    }
+    monkeypatch.setattr(scipy.linalg.lapack, routine, failing[routine])
     sym = _block_diagonal(np.random.default_rng(6))
     lam, u = leading_eigenpairs(sym, 10)
     np.testing.assert_allclose(lam, np.linalg.eigvalsh(sym)[::-1][:10], rtol=1e-12)
+    assert np.all(np.isfinite(u))
     np.testing.assert_allclose(sym @ u, u * lam, atol=1e-12 * lam[0])
+    np.testing.assert_allclose(u.T @ u, np.eye(10), atol=1e-13)
 
 
 def test_falls_back_when_residual_check_fails():
