@@ -253,10 +253,28 @@ def test_method_keyword_refused(demo, bad):
 
 
 def test_decompose_order_checked():
-    with pytest.raises(ValueError, match="order"):
+    with pytest.raises(ValueError, match="^order = 6 exceeds"):
         decompose(np.ones((5, 8)), 6)
-    with pytest.raises(ValueError, match="order"):
+    with pytest.raises(ValueError, match="^order must"):
         decompose(np.ones((5, 8)), 0)
+
+
+def test_decompose_a_single_triplet_by_gram():
+    """order = 1 on the Gram route: the leading singular triplet, as the thin SVD's
+    (the absolute tolerance is relative to sigma_1, the only one there is)."""
+    h0 = np.random.default_rng(3).standard_normal((40, 60))
+    p, d, qt, sv = decompose(h0, 1, method="gram")
+    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    assert sv.size == 1
+    np.testing.assert_allclose(d, s[:1], rtol=1e-12)
+    np.testing.assert_allclose(np.abs(p[:, 0] @ u[:, 0]), 1, rtol=1e-12)
+    np.testing.assert_allclose(np.abs(qt[0] @ vt[0]), 1, rtol=1e-12)
+
+
+def test_block_hankel_gram_of_two_block_rows():
+    """Two block rows: the second block row comes from the recursion too."""
+    h = modal.hankel(np.random.default_rng(4).standard_normal((1, 90, 5)), 2, 40)
+    np.testing.assert_allclose(block_hankel_gram(h, 5, 1), h @ h.T, rtol=1e-12, atol=1e-12 * np.abs(h).max() ** 2)
 
 
 def test_block_checked():
@@ -266,3 +284,7 @@ def test_block_checked():
             decompose(h0, 4, method="gram", block=bad)
     with pytest.raises(ValueError, match="not a block Hankel"):
         decompose(np.random.default_rng(1).standard_normal(h0.shape), 4, method="gram", block=(3, 1))
+    # shifted copies of themselves, but 5 rows are not whole blocks of 2, nor 8 columns of 3
+    for shape, block in [((5, 8), (2, 1)), ((6, 8), (1, 3))]:
+        with pytest.raises(ValueError, match="not a block Hankel"):
+            decompose(np.ones(shape), 1, method="gram", block=block)

@@ -788,8 +788,8 @@ def test_identify_record_ambient_preprocessing(monkeypatch):
     out = modal.identify_record(acc, 0.01, "ambient", max_order=10, fmax=15.0, refs=[1], highpass_hz=0.5,
                                 criteria=criteria, log=lines.append, progress=progress)
     assert out == ("diagram", 0.02)
-    assert lines == ["decimating by 2: 100 Hz -> 50 Hz", "high-pass at 0.5 Hz", "correlations: 121 lags, references [1]",
-                     "stabilisation: orders 2 ... 10, 60 block rows"]
+    assert lines == ["decimating by 2: 100 Hz -> 50 Hz", "high-pass at 0.5 Hz",
+                     "correlations: 121 lags, references [1]", "stabilisation: orders 2 ... 10, 60 block rows"]
     (call,) = calls
     y, dt = modal.decimate(modal.detrend(acc), 0.01, 2)
     expected = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1])
@@ -803,7 +803,8 @@ def test_identify_record_ambient_preprocessing(monkeypatch):
     # fmax = 30 Hz: q = floor(100 / 75) = 1, no decimation; 2 * 100 / 3 channels: 67 rows
     assert modal.identify_record(acc, 0.01, "ambient", max_order=100, fmax=30.0)[1] == 0.01
     assert modal.identify_record(acc, 0.01, "ambient", log=lines.append) == ("diagram", 0.01)
-    assert lines[-2:] == ["correlations: 121 lags, references [0, 1, 2]", "stabilisation: orders 2 ... 60, 60 block rows"]
+    assert lines[-2:] == ["correlations: 121 lags, references [0, 1, 2]",
+                          "stabilisation: orders 2 ... 60, 60 block rows"]
     assert [(c["rows"], c["max_order"], c["data"].shape) for c in calls] == [(67, 100, (3, 135, 3)),
                                                                              (60, 60, (3, 121, 3))]
     expected = modal.correlations(modal.detrend(acc), 121)
