@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Mutation testing of the engine (issue 8): mutmut over era, tcm, cera, hankel,
-# indicators, signals and result, against the engine tests only. Not run in CI
-# (8 to 25 min on this project's 2 cores, depending on what else runs).
+# indicators, signals, result and stabilisation, against the engine tests only.
+# Not run in CI (16 min for the 3432 mutants with --max-children 1; longer when
+# the 2 cores are busy with other work).
 #
 #   bash benchmarks/mutation.sh            # fresh run (deletes mutants/), then the kill rate
 #   bash benchmarks/mutation.sh --resume   # continue an interrupted run, then the kill rate

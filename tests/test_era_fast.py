@@ -140,23 +140,33 @@ def test_leading_eigenpairs_of_a_split_matrix_with_double_eigenvalues():
     np.testing.assert_allclose(u.T @ u, np.eye(30), atol=1e-13)
 
 
-def test_leading_eigenpairs_falls_back_when_inverse_iteration_fails(monkeypatch):
-    """dstein reporting non-convergence: the eigenpairs come from scipy's eigh
-    (20 of 140: above the bisection fraction, so dstein is tried first)."""
+@pytest.mark.parametrize("routine", ["dstein", "dsterf"])
+def test_leading_eigenpairs_falls_back_when_a_lapack_step_fails(monkeypatch, routine):
+    """dstein (inverse iteration) or dsterf (the eigenvalues) reporting
+    non-convergence, with garbage in its output: the eigenpairs come from
+    scipy's eigh, finite and orthonormal (NaN vectors would pass the residual
+    check, assert_allclose taking NaN for equal to NaN). 20 of 140 is above the
+    bisection fraction, so the dsterf route is tried first."""
     import scipy.linalg.lapack
 
     calls = []
 
-    def failing(d, e, w, iblock, isplit):
-        calls.append(w.size)
+    def dstein(d, e, w, iblock, isplit):
+        calls.append("dstein")
         return np.full((d.size, w.size), np.nan), 1
 
-    monkeypatch.setattr(scipy.linalg.lapack, "dstein", failing)
+    def dsterf(diag, off):
+        calls.append("dsterf")
+        return np.zeros_like(diag), 1
+
+    monkeypatch.setattr(scipy.linalg.lapack, routine, {"dstein": dstein, "dsterf": dsterf}[routine])
     sym = _block_diagonal(np.random.default_rng(6))
     lam, u = leading_eigenpairs(sym, 20)
-    assert calls == [20]
+    assert calls == [routine]
     np.testing.assert_allclose(lam, np.linalg.eigvalsh(sym)[::-1][:20], rtol=1e-12)
+    assert np.all(np.isfinite(u))
     np.testing.assert_allclose(sym @ u, u * lam, atol=1e-12 * lam[0])
+    np.testing.assert_allclose(u.T @ u, np.eye(20), atol=1e-13)
 
 
 def test_falls_back_when_residual_check_fails():
@@ -251,10 +261,28 @@ def test_method_keyword_refused(demo, bad):
 
 
 def test_decompose_order_checked():
-    with pytest.raises(ValueError, match="order"):
+    with pytest.raises(ValueError, match="^order = 6 exceeds"):
         decompose(np.ones((5, 8)), 6)
-    with pytest.raises(ValueError, match="order"):
+    with pytest.raises(ValueError, match="^order must"):
         decompose(np.ones((5, 8)), 0)
+
+
+def test_decompose_a_single_triplet_by_gram():
+    """order = 1 on the Gram route: the leading singular triplet, as the thin SVD's
+    (the absolute tolerance is relative to sigma_1, the only one there is)."""
+    h0 = np.random.default_rng(3).standard_normal((40, 60))
+    p, d, qt, sv = decompose(h0, 1, method="gram")
+    u, s, vt = np.linalg.svd(h0, full_matrices=False)
+    assert sv.size == 1
+    np.testing.assert_allclose(d, s[:1], rtol=1e-12)
+    np.testing.assert_allclose(np.abs(p[:, 0] @ u[:, 0]), 1, rtol=1e-12)
+    np.testing.assert_allclose(np.abs(qt[0] @ vt[0]), 1, rtol=1e-12)
+
+
+def test_block_hankel_gram_of_two_block_rows():
+    """Two block rows: the second block row comes from the recursion too."""
+    h = modal.hankel(np.random.default_rng(4).standard_normal((1, 90, 5)), 2, 40)
+    np.testing.assert_allclose(block_hankel_gram(h, 5, 1), h @ h.T, rtol=1e-12, atol=1e-12 * np.abs(h).max() ** 2)
 
 
 def test_block_checked():
@@ -264,3 +292,7 @@ def test_block_checked():
             decompose(h0, 4, method="gram", block=bad)
     with pytest.raises(ValueError, match="not a block Hankel"):
         decompose(np.random.default_rng(1).standard_normal(h0.shape), 4, method="gram", block=(3, 1))
+    # shifted copies of themselves, but 5 rows are not whole blocks of 2, nor 8 columns of 3
+    for shape, block in [((5, 8), (2, 1)), ((6, 8), (1, 3))]:
+        with pytest.raises(ValueError, match="not a block Hankel"):
+            decompose(np.ones(shape), 1, method="gram", block=block)

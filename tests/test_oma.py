@@ -560,3 +560,320 @@ def test_stabilisation_reports_progress_per_order():
     calls = []
     modal.stabilisation(r, dt, 12, rows=40, cols=40, progress=lambda done, total: calls.append((done, total)))
     assert calls == [(i, 6) for i in range(1, 7)]
+
+
+def _hand_made_diagram():
+    """A Stabilisation built by hand for the figure: six poles of orders 2, 4
+    and 6, one of each group exactly at fmax = 5 Hz and one above it; modes
+    at 2, 5 (= fmax) and 6 Hz; a spectrum on a 0.5 Hz grid up to 10 Hz."""
+    import pandas as pd
+
+    from modal.stabilisation import Stabilisation
+
+    poles = pd.DataFrame({"order": [2, 2, 4, 4, 6, 6], "freq_hz": [1.0, 2.0, 2.0, 3.0, 5.0, 6.0],
+                          "stable": [False, True, True, False, True, True], "mode": [0, 0, 1, 0, 2, 3]})
+    modes = pd.DataFrame({"freq_hz": [2.0, 5.0, 6.0]})
+    hz = np.linspace(0.0, 10.0, 21)
+    return Stabilisation(modes, np.zeros((2, 3)), poles, np.zeros((6, 2)), np.ones(3), hz, 1.0 + hz**2)
+
+
+def test_stabilisation_figure_draws_each_group_up_to_fmax():
+    """What a reader takes from the diagram: every pole up to fmax (inclusive)
+    in grey, the stable ones and those in a mode drawn again over them, a line
+    per mode up to fmax, the spectrum over the same band on a log axis behind
+    the poles (whose background is transparent), the axis labels and title;
+    without fmax, the whole spectrum's band. Colours and sizes are not pinned."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from modal.stabilisation import stabilisation_figure
+
+    result = _hand_made_diagram()
+    fig, ax = plt.subplots()
+    assert result.plot(fmax=5.0, title="Palisaden", ax=ax) is fig
+    assert ax.get_xlim() == (0.0, 5.0)
+    assert (ax.get_xlabel(), ax.get_ylabel(), ax.get_title()) == ("frequency (Hz)", "model order", "Palisaden")
+    groups = {c.get_label(): np.asarray(c.get_offsets()) for c in ax.collections}
+    assert list(groups) == ["pole", "stable", "in a mode"]
+    np.testing.assert_array_equal(groups["pole"], [[1, 2], [2, 2], [2, 4], [3, 4], [5, 6]])
+    np.testing.assert_array_equal(groups["stable"], [[2, 2], [2, 4], [5, 6]])
+    np.testing.assert_array_equal(groups["in a mode"], [[2, 4], [5, 6]])
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["pole", "stable", "in a mode"]
+    np.testing.assert_array_equal([line.get_xdata() for line in ax.lines], [[2, 2], [5, 5]])
+    (spectrum_ax,) = [other for other in fig.axes if other is not ax]
+    (spectrum,) = spectrum_ax.lines
+    np.testing.assert_array_equal(spectrum.get_xdata(), result.spectrum_hz[:11])
+    np.testing.assert_array_equal(spectrum.get_ydata(), result.spectrum[:11])
+    assert spectrum_ax.get_yscale() == "log" and spectrum_ax.get_ylabel() == "amplitude spectrum"
+    assert len(spectrum_ax.get_yticks()) == 0  # arbitrary units: no scale
+    assert ax.get_zorder() > spectrum_ax.get_zorder() and not ax.patch.get_visible()
+    plt.close(fig)
+
+    fig = stabilisation_figure(result)
+    ax, spectrum_ax = fig.axes
+    assert ax.get_xlim() == (0.0, 10.0) and ax.get_title() == ""
+    assert len(ax.collections[0].get_offsets()) == 6 and len(ax.lines) == 3
+    assert len(spectrum_ax.lines[0].get_xdata()) == 21
+    plt.close(fig)
+    with pytest.raises(ValueError, match="^result must be a Stabilisation, got dict"):
+        stabilisation_figure({"poles": None})
+    with pytest.raises(ValueError, match="^fmax must"):
+        stabilisation_figure(result, fmax=0.0)
+
+
+def _rank_deficient_decay(rank, n_samples=300):
+    """Two channels of (rank - 1) / 2 damped cosines and one real exponential
+    per channel pair: H(0) has exactly ``rank`` (odd) non-zero singular values."""
+    k = np.arange(n_samples)
+    y = 0.5 * (0.9**k)[:, None] * np.array([1.0, 2.0])
+    for j in range((rank - 1) // 2):
+        y = y + 0.97**k[:, None] * np.cos((0.3 + 0.4 * j) * k[:, None] + np.array([0.0, 1.0 + j]))
+    return y
+
+
+def test_stabilisation_stops_at_the_numerical_rank():
+    """H(0) of rank 1 (one real exponential): no order is computed, and the
+    empty diagram keeps its columns and dtypes; rank 5: orders 2 and 4 only
+    (rank - rank % 2); rank exactly max_order: no rank warning."""
+    import warnings
+
+    def run(y, max_order):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = modal.stabilisation(y, 0.01, max_order, rows=10)
+        return result, [w for w in caught if issubclass(w.category, modal.ModalWarning)]
+
+    result, caught = run((0.9 ** np.arange(200))[:, None] * np.array([1.0, 2.0]), 4)
+    assert [str(w.message) for w in caught] == [
+        "H(0) has numerical rank 1: orders above it are not computed",
+        "no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria"]
+    from modal.stabilisation import MODE_COLUMNS, POLE_COLUMNS
+
+    assert list(result.poles.columns) == POLE_COLUMNS + ["physical", "mode"] and result.poles.empty
+    assert result.poles["order"].dtype.kind == "i" and result.poles["mode"].dtype.kind == "i"
+    assert all(result.poles[c].dtype == float for c in ("freq_hz", "damping", "mpc", "mamc"))
+    assert all(result.poles[c].dtype == bool for c in POLE_COLUMNS[5:] + ["physical"])
+    assert result.pole_shapes.shape == (0, 2) and result.shapes.shape == (2, 0)
+    assert list(result.modes.columns) == MODE_COLUMNS and result.modes.empty
+
+    result, caught = run(_rank_deficient_decay(5), 8)
+    assert "H(0) has numerical rank 5:" in str(caught[0].message)
+    assert sorted(result.poles["order"].unique()) == [2, 4]
+    result, caught = run(_rank_deficient_decay(5)[:, :1] - 0.5 * 0.9 ** np.arange(300)[:, None], 4)
+    assert not any("numerical rank" in str(w.message) for w in caught)
+    assert sorted(result.poles["order"].unique()) == [2, 4]
+
+
+def test_stabilisation_checks_arguments_at_the_boundary():
+    """Refusals name the argument; the bounds themselves are accepted:
+    max_order = 2, start = 0, one column (the default cols = n_samples - start
+    - rows), max_order equal to the smaller side of H(0)."""
+    import warnings
+
+    rng = np.random.default_rng(1)
+    r = rng.standard_normal((2, 50, 3))
+    for kwargs, message in [
+        ({"y": np.full((50, 2), np.nan)}, "^y contains NaN"),
+        ({"dt": 0.0}, "^dt must"),
+        ({"max_order": 1}, "^max_order must be an integer >= 2"),
+        ({"rows": 0}, "^rows must"),
+        ({"start": -1}, "^start must be an integer >= 0"),
+        ({"cols": 0}, "^cols must"),
+        ({"fmax": 0.0}, "^fmax must"),
+        ({"criteria": {"mac_min": 0.9}}, "^criteria must be a StabilityCriteria, got dict$"),
+        ({"rows": 45, "start": 5}, r"^rows = 45 from start = 5 leaves no column of the 50-sample data$"),
+        ({"max_order": 32, "rows": 10, "cols": 20}, r"^max_order = 32 exceeds the smaller dimension of H\(0\) "
+                                                     r"\(30 x 40\): reduce max_order or enlarge rows/cols$"),
+    ]:
+        args = {"y": r, "dt": 0.1, "max_order": 4, "rows": 10} | kwargs
+        with pytest.raises(ValueError, match=message):
+            modal.stabilisation(**args)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        one_column = modal.stabilisation(r, 0.1, 2, rows=44, start=5)  # H(0): 132 x 2
+        assert one_column.singular_values.size == 2
+        full = modal.stabilisation(r, 0.1, 30, rows=10, cols=20, start=0)  # H(0): 30 x 40
+        assert full.poles["order"].max() == 30
+        # the default cols is every column the data allow from start on
+        default = modal.stabilisation(r, 0.1, 4, rows=10, start=7)
+        explicit = modal.stabilisation(r, 0.1, 4, rows=10, start=7, cols=33)
+    np.testing.assert_array_equal(default.singular_values, explicit.singular_values)
+    np.testing.assert_allclose(default.singular_values, np.linalg.svd(modal.hankel(r, 10, 33, 7), compute_uv=False),
+                               rtol=1e-12)
+
+
+def test_stabilisation_quality_criteria_and_outputs(monkeypatch):
+    """On noisy correlations off the thesis geometry: ``physical`` is exactly
+    the documented quality criteria (each of which excludes some poles), only
+    physical stable poles join modes, modes lie below fmax, the
+    default min_poles is 40 % of the orders (at least 3), and the result keeps
+    the singular values of H(0), the criteria and the spectrum of the data
+    from ``start`` on."""
+    import sys
+    import warnings
+
+    from modal.stabilisation import _mean_spectrum
+
+    stab_module = sys.modules["modal.stabilisation"]
+    seen = []
+    real_select = stab_module._select_modes
+    monkeypatch.setattr(stab_module, "_select_modes",
+                        lambda *args: seen.append(args[2:]) or real_select(*args))
+    acc, dt, f_exact = ambient_beam(duration_s=120, seed=5)
+    acc = acc + 0.05 * acc.std(axis=0) * np.random.default_rng(2).standard_normal(acc.shape)
+    data = modal.correlations(modal.detrend(acc), 81)
+    criteria = modal.StabilityCriteria(max_damping=0.05, mpc_min=0.8, mamc_min=0.6, cluster_distance=0.03)
+    fmax = 0.5 * (f_exact[1] + f_exact[2])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        result = modal.stabilisation(data, dt, 40, 40, start=3, fmax=fmax, criteria=criteria)
+    poles = result.poles
+    parts = {
+        "complex": ~poles["real_pole"],
+        "positive damping": poles["damping"] > 0,
+        "below max_damping": poles["damping"] < criteria.max_damping,
+        "mpc": poles["mpc"] >= criteria.mpc_min,
+        "mamc": poles["mamc"] >= criteria.mamc_min,
+        "below fmax": poles["freq_hz"] < fmax,
+    }
+    expected = np.logical_and.reduce(list(parts.values()))
+    np.testing.assert_array_equal(poles["physical"], expected)
+    for name, part in parts.items():
+        assert (~part).any(), f"no pole is excluded by {name}"
+    assert (poles["mode"] > 0).sum() > 0 and np.all(poles.loc[poles["mode"] > 0, ["stable", "physical"]])
+    np.testing.assert_allclose(result.modes["freq_hz"], f_exact[:2], rtol=0.01)
+    assert seen == [(criteria.cluster_distance, 8)]  # 20 orders: ceil(0.4 * 20)
+    assert result.criteria == criteria
+    h0 = modal.hankel(data, 40, 81 - 3 - 40, 3)  # every column from start = 3 on
+    np.testing.assert_allclose(result.singular_values, np.linalg.svd(h0, compute_uv=False), rtol=1e-10)
+    hz, spectrum = _mean_spectrum(data[:, 3:], dt)
+    np.testing.assert_array_equal(result.spectrum_hz, hz)
+    np.testing.assert_allclose(result.spectrum, spectrum, rtol=1e-12)
+
+    seen.clear()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        modal.stabilisation(data, dt, 10, 40)  # 5 orders: at least 3
+        modal.stabilisation(data, dt, 10, 40, criteria=modal.StabilityCriteria(min_poles=2))
+    assert [s[1] for s in seen] == [3, 2]
+
+
+def _spy_on_stabilisation(monkeypatch):
+    """Replace the stabilisation that identify_record calls by a recorder of
+    its arguments (identify_record's own work is what is tested)."""
+    import sys
+
+    calls = []
+
+    def spy(data, dt, max_order, rows, **kwargs):
+        calls.append(dict(data=data, dt=dt, max_order=max_order, rows=rows, **kwargs))
+        return "diagram"
+
+    monkeypatch.setattr(sys.modules["modal.stabilisation"], "stabilisation", spy)
+    return calls
+
+
+def test_identify_record_ambient_preprocessing(monkeypatch):
+    """Ambient: detrend, decimate by floor(fs / (2.5 fmax)) when that is at
+    least 2, high-pass, then NExT correlations with 2 rows + 1 lags from the
+    chosen references; rows default to max(60, ceil(2 max_order / n_channels));
+    the log names each step with its numbers."""
+    calls = _spy_on_stabilisation(monkeypatch)
+    rng = np.random.default_rng(8)
+    acc = rng.standard_normal((3000, 3)) + 0.01 * np.arange(3000)[:, None]
+    criteria, progress, lines = modal.StabilityCriteria(min_poles=4), (lambda done, total: None), []
+    # fs = 100 Hz, fmax = 15 Hz: q = floor(100 / 37.5) = 2
+    out = modal.identify_record(acc, 0.01, "ambient", max_order=10, fmax=15.0, refs=[1], highpass_hz=0.5,
+                                criteria=criteria, log=lines.append, progress=progress)
+    assert out == ("diagram", 0.02)
+    assert lines == ["decimating by 2: 100 Hz -> 50 Hz", "high-pass at 0.5 Hz",
+                     "correlations: 121 lags, references [1]", "stabilisation: orders 2 ... 10, 60 block rows"]
+    (call,) = calls
+    y, dt = modal.decimate(modal.detrend(acc), 0.01, 2)
+    expected = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1])
+    data = call.pop("data")
+    assert data.shape == (1, 121, 3)
+    np.testing.assert_allclose(data, expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+    assert call == dict(dt=0.02, max_order=10, rows=60, cols=None, start=0, fmax=15.0, criteria=criteria,
+                        progress=progress)
+
+    calls.clear()
+    # fmax = 30 Hz: q = floor(100 / 75) = 1, no decimation; 2 * 100 / 3 channels: 67 rows
+    assert modal.identify_record(acc, 0.01, "ambient", max_order=100, fmax=30.0)[1] == 0.01
+    assert modal.identify_record(acc, 0.01, "ambient", log=lines.append) == ("diagram", 0.01)
+    assert lines[-2:] == ["correlations: 121 lags, references [0, 1, 2]",
+                          "stabilisation: orders 2 ... 60, 60 block rows"]
+    assert [(c["rows"], c["max_order"], c["data"].shape) for c in calls] == [(67, 100, (3, 135, 3)),
+                                                                             (60, 60, (3, 121, 3))]
+    expected = modal.correlations(modal.detrend(acc), 121)
+    np.testing.assert_allclose(calls[1]["data"], expected, rtol=1e-12, atol=1e-12 * np.abs(expected).max())
+    # the lags may fill half the record: 751 of 1502 samples, not 753
+    assert modal.identify_record(acc[:1502], 0.01, "ambient", rows=375)[0] == "diagram"
+    with pytest.raises(ValueError, match="^rows = 376 needs 753 lags, more than half the 1502-sample record"):
+        modal.identify_record(acc[:1502], 0.01, "ambient", rows=376)
+
+
+def test_identify_record_free_decay_window(monkeypatch):
+    """Free decay: the record from decay_start on, at most 10 rows columns
+    (fewer when the decay is shorter), down to a single column."""
+    calls = _spy_on_stabilisation(monkeypatch)
+    rng = np.random.default_rng(9)
+    k = np.arange(800)
+    decay = 0.995**k[:, None] * np.cos(np.array([0.2, 0.35]) * k[:, None])
+    acc = np.vstack([0.01 * rng.standard_normal((200, 2)), decay])
+    start = modal.decay_start(modal.detrend(acc))
+    assert start == 200
+    lines = []
+    modal.identify_record(acc, 0.01, "free_decay", rows=50, log=lines.append)
+    assert lines == ["free decay from sample 200 (t = 2 s)", "stabilisation: orders 2 ... 60, 50 block rows"]
+    modal.identify_record(acc, 0.01, "free_decay", rows=80)
+    modal.identify_record(acc, 0.01, "free_decay", rows=799)
+    assert [(c["rows"], c["cols"], c["start"]) for c in calls] == [(50, 500, 200), (80, 720, 200), (799, 1, 200)]
+    np.testing.assert_allclose(calls[0]["data"], modal.detrend(acc))
+    with pytest.raises(ValueError, match="^rows = 800: the decay after sample 200 is too short; reduce rows$"):
+        modal.identify_record(acc, 0.01, "free_decay", rows=800)
+
+
+def test_identify_record_refusals_name_the_argument(monkeypatch):
+    calls = _spy_on_stabilisation(monkeypatch)
+    acc = np.random.default_rng(10).standard_normal((1000, 2))
+    for kwargs, message in [({"dt": 0.0}, "^dt must"), ({"max_order": 1}, "^max_order must be an integer >= 2"),
+                            ({"rows": 0}, "^rows must"), ({"fmax": 0.0}, "^fmax must"),
+                            ({"fmax": 50.0}, "^fmax = 50.0 Hz must be below the Nyquist frequency 50 Hz$")]:
+        with pytest.raises(ValueError, match=message):
+            modal.identify_record(acc, **({"dt": 0.01, "excitation": "ambient", "rows": 20} | kwargs))
+    assert modal.identify_record(acc, 0.01, "ambient", max_order=2, rows=20, fmax=49.9)[1] == 0.01
+    assert calls[0]["max_order"] == 2
+
+
+def test_mean_spectrum_of_a_spectral_null_is_zero_not_nan():
+    """Six samples whose tapered values are 1, -1, 0, ...: their sum, the
+    spectrum at 0 Hz, is zero; rounding in the autocorrelation route leaves
+    the power there at -2e-16, which must read as 0, not as NaN."""
+    import warnings
+
+    from modal.stabilisation import _mean_spectrum
+
+    taper = np.hanning(12)[6:]
+    y = np.zeros((1, 6, 1))
+    y[0, :2, 0] = np.array([1.0, -1.0]) / taper[:2]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        freqs, spectrum = _mean_spectrum(y, 0.01)
+    assert np.all(np.isfinite(spectrum)) and spectrum[0] <= 1e-7 * spectrum.max()
+    np.testing.assert_allclose(spectrum, np.abs(np.fft.rfft(y[0, :, 0] * taper, n=8192)) / 6, atol=1e-7)
+
+
+def test_select_modes_joins_groups_by_average_linkage():
+    """Three poles of one shape at 1.00, 1.01 and 1.02 Hz (distances 0.0099,
+    0.0098 and 0.0196), cluster distance 0.012: 1.01 and 1.02 Hz join; 1.00
+    Hz is 0.0147 from them on average, so it stays out (single linkage, or a
+    distance matrix shrunk by 2/3, would join all three)."""
+    from modal.stabilisation import _select_modes
+
+    poles, pole_shapes = _pole_table([1.0, 1.01, 1.02], [[1.0, 2.0]] * 3)
+    labels, modes, _ = _select_modes(poles, pole_shapes, cluster_distance=0.012, min_poles=2)
+    np.testing.assert_array_equal(labels, [0, 1, 1])
+    assert modes["n_poles"].tolist() == [2] and modes["freq_hz"].iloc[0] == pytest.approx(1.015, rel=1e-12)
