@@ -22,6 +22,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_var] = "1"  # before numpy is imported: BLAS reads them at load
 
 import argparse  # noqa: E402
+import importlib  # noqa: E402
 import platform  # noqa: E402
 import sys  # noqa: E402
 import time  # noqa: E402
@@ -31,7 +32,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 
 import modal  # noqa: E402
 
-decompose = sys.modules["modal.era"].decompose  # ``modal.era`` is the function
+decompose = importlib.import_module("modal.era").decompose  # ``modal.era`` is the function
 
 N_CHANNELS, N_SAMPLES, ROWS, COLS, N_MODES, DT = 12, 20_000, 40, 2000, 12, 0.005
 

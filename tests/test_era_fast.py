@@ -1,14 +1,14 @@
 """The ERA's fast decomposition: leading singular triplets of H(0) from its Gram
 matrix, refined by Rayleigh-Ritz and checked, against closed form and the thin SVD."""
 
-import sys
+import importlib
 
 import numpy as np
 import pytest
 
 import modal
 
-era_module = sys.modules["modal.era"]  # ``modal.era`` is the function
+era_module = importlib.import_module("modal.era")  # ``modal.era`` is the function
 decompose, realise, block_hankel_gram = era_module.decompose, era_module.realise, era_module.block_hankel_gram
 leading_eigenpairs = era_module.leading_eigenpairs
 

@@ -1,17 +1,32 @@
-"""Monte Carlo seeds split into chunks, one workflow job each, and the merge
-that gives back, byte for byte, the file the unsplit run writes.
+"""A study's cases, its Monte Carlo seeds split into chunks (one workflow job
+each), and the merge that gives back, byte for byte, the file the unsplit run
+writes.
 
 A seeds mapping ``{"first": f, "count": c, "chunk": k}`` (``chunk`` optional,
 default ``count``: one chunk) splits the seeds ``f ... f + c - 1`` into
 ``ceil(c / k)`` consecutive ranges. The number of identification jobs grows
 with the number of seeds, so a cluster can spread them.
+
+Plain Python (no numpy, pandas or engine): Snakemake plans the jobs with
+these functions before any job runs, and the merge jobs run nothing else.
 """
 
 from __future__ import annotations
 
+import csv
 from collections.abc import Mapping, Sequence
 
-import pandas as pd
+
+def study_cases(study: Mapping) -> dict[str, dict]:
+    """Cases of a study as ``{name: {"damping": zeta, "noise": eta}}``: the
+    explicit ``cases`` mapping, plus one case per entry of ``noise_sweep``
+    (``{"damping": zeta, "noise": [eta, ...]}``) named ``eta_<eta>``."""
+    cases = {name: dict(case) for name, case in study.get("cases", {}).items()}
+    sweep = study.get("noise_sweep")
+    if sweep:
+        for eta in sweep["noise"]:
+            cases[f"eta_{eta:g}"] = {"damping": sweep["damping"], "noise": eta}
+    return cases
 
 
 def seed_chunks(seeds: Mapping) -> list[range]:
@@ -53,15 +68,32 @@ def merge_chunks(paths: Sequence, out, group_by: str | None = None) -> None:
     """
     if not paths:
         raise ValueError("paths: at least one chunk file is needed")
-    frames = [pd.read_csv(p, dtype=str, keep_default_na=False, na_filter=False) for p in paths]
-    merged = pd.concat(frames, ignore_index=True)
+    tables = [_read_csv(p) for p in paths]
+    header = tables[0][0]
+    for path, (other, _) in zip(paths, tables):
+        if other != header:
+            raise ValueError(f"paths: {path} has the columns {other}, {paths[0]} has {header}")
+    rows = [row for _, chunk_rows in tables for row in chunk_rows]
     if group_by is not None:
-        order = {value: i for i, value in enumerate(dict.fromkeys(frames[0][group_by]))}
-        missing = set(merged[group_by]) - set(order)
+        column = header.index(group_by)
+        order = {value: i for i, value in enumerate(dict.fromkeys(row[column] for row in tables[0][1]))}
+        missing = {row[column] for row in rows} - set(order)
         if missing:
             raise ValueError(f"paths: {group_by} {sorted(missing)} missing from the first chunk {paths[0]}")
-        merged = merged.iloc[merged[group_by].map(order).argsort(kind="stable")]
-    merged.to_csv(out, index=False)
+        rows.sort(key=lambda row: order[row[column]])  # stable: seed order within a case
+    with open(out, "w", encoding="utf-8", newline="") as fh:
+        writer = csv.writer(fh, lineterminator="\n")  # as pandas' to_csv writes them
+        writer.writerow(header)
+        writer.writerows(rows)
+
+
+def _read_csv(path) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of a CSV file, every cell as its text."""
+    with open(path, encoding="utf-8", newline="") as fh:
+        lines = [row for row in csv.reader(fh) if row]
+    if not lines:
+        raise ValueError(f"paths: {path} is empty (not even a header)")
+    return lines[0], lines[1:]
 
 
 def merge_grid_chunks(identified: Sequence, selection: Sequence, first_record, out: Mapping) -> None:

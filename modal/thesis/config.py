@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from .study import study_cases
+from .chunks import study_cases
 
 #: Top-level and grid mappings keyed by a thesis table or figure number.
 NUMBERED = (("tables",), ("shape_figures",), ("noise_figures",), ("grid", "tables"))

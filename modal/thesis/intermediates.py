@@ -10,7 +10,7 @@ from collections.abc import Mapping
 
 import pandas as pd
 
-from .study import study_cases
+from .chunks import study_cases
 
 #: Columns of a beam study's identified modes (:func:`modal.thesis.study.run_study`)
 #: that must be present and never NaN.

@@ -20,7 +20,7 @@ from ..result import ModalWarning
 from ..simulate import Record, beam_impulse_response, with_noise
 from ..structures import SimplySupportedBeam
 from ..tcm import tcm
-from .chunks import chunk_seeds
+from .chunks import chunk_seeds, study_cases
 
 SIGNAL_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}
 
@@ -89,18 +89,6 @@ def _identify(record, method, settings, signals, channels):
     if method == "cera":
         return cera(y, record.dt, **settings)
     raise ValueError(f"method must be one of tcm, era, cera, got {method!r}")
-
-
-def study_cases(study: Mapping) -> dict[str, dict]:
-    """Cases of a study as ``{name: {"damping": zeta, "noise": eta}}``: the
-    explicit ``cases`` mapping, plus one case per entry of ``noise_sweep``
-    (``{"damping": zeta, "noise": [eta, ...]}``) named ``eta_<eta>``."""
-    cases = {name: dict(case) for name, case in study.get("cases", {}).items()}
-    sweep = study.get("noise_sweep")
-    if sweep:
-        for eta in sweep["noise"]:
-            cases[f"eta_{eta:g}"] = {"damping": sweep["damping"], "noise": eta}
-    return cases
 
 
 def _frame(result, **labels) -> pd.DataFrame:

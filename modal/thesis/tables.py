@@ -64,25 +64,32 @@ SKIP_COST = 0.5 * np.log(2.0)
 def _align(entries: np.ndarray, refs: np.ndarray) -> list[tuple[int, int]]:
     """Order-preserving pairing of sorted log-frequencies ``entries`` with
     sorted ``refs`` that minimises the summed distance, where leaving either
-    unpaired costs :data:`SKIP_COST` (an edit-distance alignment)."""
+    unpaired costs :data:`SKIP_COST` (an edit-distance alignment).
+
+    In Python floats (the same IEEE arithmetic as NumPy's scalars, without
+    their overhead: tables and figures align thousands of seeds)."""
+    entries, refs = entries.tolist(), refs.tolist()
     k, r = len(entries), len(refs)
-    cost = np.zeros((k + 1, r + 1))
-    cost[:, 0] = SKIP_COST * np.arange(k + 1)
-    cost[0, :] = SKIP_COST * np.arange(r + 1)
+    cost = [[SKIP_COST * (i + j) if i == 0 or j == 0 else 0.0 for j in range(r + 1)] for i in range(k + 1)]
     for i in range(1, k + 1):
         for j in range(1, r + 1):
-            cost[i, j] = min(cost[i - 1, j - 1] + abs(entries[i - 1] - refs[j - 1]),
-                             cost[i - 1, j] + SKIP_COST, cost[i, j - 1] + SKIP_COST)
+            cost[i][j] = min(cost[i - 1][j - 1] + abs(entries[i - 1] - refs[j - 1]),
+                             cost[i - 1][j] + SKIP_COST, cost[i][j - 1] + SKIP_COST)
     pairs, i, j = [], k, r
     while i > 0 and j > 0:
-        if np.isclose(cost[i, j], cost[i - 1, j - 1] + abs(entries[i - 1] - refs[j - 1])):
+        if _isclose(cost[i][j], cost[i - 1][j - 1] + abs(entries[i - 1] - refs[j - 1])):
             pairs.append((i - 1, j - 1))
             i, j = i - 1, j - 1
-        elif np.isclose(cost[i, j], cost[i - 1, j] + SKIP_COST):
+        elif _isclose(cost[i][j], cost[i - 1][j] + SKIP_COST):
             i -= 1
         else:
             j -= 1
     return pairs[::-1]
+
+
+def _isclose(a: float, b: float) -> bool:
+    """:func:`numpy.isclose` with its default tolerances, for two finite floats."""
+    return abs(a - b) <= 1e-08 + 1e-05 * abs(b)
 
 
 def match_to_reference(group: pd.DataFrame) -> pd.Series:
@@ -96,12 +103,15 @@ def match_to_reference(group: pd.DataFrame) -> pd.Series:
     """
     ref = group.groupby("mode")["actual"].first().dropna().sort_index()
     logs = np.log(ref.to_numpy())
-    matched = pd.Series(np.nan, index=group.index)
-    for _, seed_rows in group.groupby("seed"):
-        osc = seed_rows[~seed_rows["real_pole"].astype(bool) & (seed_rows["omega"] > 0)].sort_values("omega")
-        for i, j in _align(np.log(osc["omega"].to_numpy()), logs):
-            matched[osc.index[i]] = ref.index[j]
-    return matched
+    seeds, omega = group["seed"].to_numpy(), group["omega"].to_numpy(dtype=float)
+    oscillating = ~group["real_pole"].astype(bool).to_numpy() & (omega > 0)
+    matched = np.full(len(group), np.nan)
+    for seed in np.unique(seeds):
+        rows = np.flatnonzero((seeds == seed) & oscillating)
+        rows = rows[np.argsort(omega[rows], kind="quicksort")]  # as DataFrame.sort_values sorts
+        for i, j in _align(np.log(omega[rows]), logs):
+            matched[rows[i]] = ref.index[j]
+    return pd.Series(matched, index=group.index)
 
 
 def run_modes(group: pd.DataFrame) -> tuple[pd.Series, bool]:

@@ -12,6 +12,7 @@ rule summary:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:
         res("logs/summary.log"),
+    priority: CRITICAL_PATH
     threads: 1
     resources:
         mem_mb=300,
@@ -22,8 +23,10 @@ rule summary:
         "../scripts/summary.py"
 
 
-# All notebooks in one job and one kernel (run_notebook.py): a kernel start and
-# the thesis layer's imports cost more than most notebooks' cells.
+# All notebooks in one job (run_notebook.py), in as many kernels as it has
+# threads, side by side: a kernel start and the thesis layer's imports cost
+# more than most notebooks' cells, and the notebooks are the workflow's last
+# step, so both kernels use cores that would otherwise idle.
 rule notebook:
     input:
         code=NOTEBOOK_CODE,
@@ -37,12 +40,14 @@ rule notebook:
         # failure it holds the traceback; on success it is copied to output.
         notebooks=[res(f"logs/notebook_{name}.ipynb") for name in NOTEBOOKS],
         text=res("logs/notebook.log"),
-    threads: 1
+    priority: CRITICAL_PATH
+    threads: 2
     resources:
-        mem_mb=1000,
+        mem_mb=1500,
         runtime=10,
     params:
         names=NOTEBOOKS,
+        order=NOTEBOOKS_LONGEST_FIRST,
         parameters={name: notebook_parameters(name) for name in NOTEBOOKS},
     script:
         "../scripts/run_notebook.py"

@@ -1,9 +1,12 @@
-"""Execute the report notebooks with papermill, one kernel for all of them ->
-results/notebooks/{name}.ipynb, one executed notebook per chapter.
+"""Execute the report notebooks with papermill, in as many kernels as the job
+has threads -> results/notebooks/{name}.ipynb, one executed notebook per chapter.
 
 Starting a kernel and importing the thesis layer and matplotlib in it costs
-about as much as a notebook's cells, so one job runs every notebook in one
-kernel, in the rule's order: before each notebook the kernel's namespace is
+about as much as a notebook's cells, so one job runs every notebook, in
+``threads`` kernels side by side (each single-threaded, driven by its own
+forked process: papermill is not made for threads): every kernel takes the
+next notebook of ``params.order`` (longest first, so the kernels finish
+together) until none is left. Before each notebook its kernel's namespace is
 cleared (``%reset -f``), its figures closed, its working directory and its
 execution counter reset, so each notebook starts as in a fresh kernel except
 that modules are already imported.
@@ -17,6 +20,7 @@ venv's ipykernel); anything else is refused rather than silently used.
 import os
 import shutil
 import sys
+import multiprocessing
 from pathlib import Path
 
 import papermill as pm
@@ -73,27 +77,59 @@ async def reset(km):
         kc.stop_channels()
 
 
-names = snakemake.params.names
-km = AsyncKernelManager(kernel_name="python3")
-run_sync(km.start_kernel)(cwd=os.getcwd(), extra_arguments=["--HistoryManager.hist_file=:memory:"])
-failed = []
-try:
-    for name, source, executed, output in zip(names, snakemake.input.notebooks, snakemake.log.notebooks,
-                                              snakemake.output):
-        run_sync(reset)(km)
-        declared = pm.inspect_notebook(source)
-        parameters = {k: v for k, v in snakemake.params.parameters[name].items() if k in declared}
-        print(f"{name}: parameters: {parameters}", flush=True)
-        try:
-            pm.execute_notebook(source, executed, parameters=parameters, kernel_name="python3", language="python",
-                                cwd=os.getcwd(), progress_bar=False, log_output=False, execution_timeout=600,
-                                km=km)
-        except pm.PapermillExecutionError as error:
-            print(f"{name}: FAILED, traceback in {executed}\n{error}", flush=True)
-            failed.append(name)
-            continue
-        shutil.copyfile(executed, output)
-finally:
-    run_sync(km.shutdown_kernel)(now=True)
+notebooks = {name: (source, executed, output) for name, source, executed, output in
+             zip(snakemake.params.names, snakemake.input.notebooks, snakemake.log.notebooks, snakemake.output)}
+order = snakemake.params.order
+if sorted(order) != sorted(notebooks):
+    raise ValueError(f"params.order {order} must list the notebooks {list(notebooks)} once each")
+for output in snakemake.output:  # a notebook succeeded when its output exists
+    Path(output).unlink(missing_ok=True)
+# Each kernel single-threaded: the job's threads are its kernels.
+KERNEL_ENV = {**os.environ, **{v: "1" for v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")}}
+fork = multiprocessing.get_context("fork")
+taken = fork.Value("i", 0)  # how many notebooks of `order` the kernels have taken
+
+
+def next_notebook():
+    with taken.get_lock():
+        taken.value += 1
+        return order[taken.value - 1] if taken.value <= len(order) else None
+
+
+def execute(km, name):
+    """Execute notebook ``name`` in the kernel of ``km``; its output only if it succeeds."""
+    source, executed, output = notebooks[name]
+    run_sync(reset)(km)
+    declared = pm.inspect_notebook(source)
+    parameters = {k: v for k, v in snakemake.params.parameters[name].items() if k in declared}
+    print(f"{name}: parameters: {parameters}", flush=True)
+    try:
+        pm.execute_notebook(source, executed, parameters=parameters, kernel_name="python3", language="python",
+                            cwd=os.getcwd(), progress_bar=False, log_output=False, execution_timeout=600, km=km)
+    except pm.PapermillExecutionError as error:
+        print(f"{name}: FAILED, traceback in {executed}\n{error}", flush=True)
+        return
+    shutil.copyfile(executed, output)
+
+
+def kernel_worker():
+    """One kernel, run from a forked process: the next notebook until none is left."""
+    km = AsyncKernelManager(kernel_name="python3")
+    run_sync(km.start_kernel)(cwd=os.getcwd(), env=KERNEL_ENV,
+                              extra_arguments=["--HistoryManager.hist_file=:memory:"])
+    try:
+        while (name := next_notebook()) is not None:
+            execute(km, name)
+    finally:
+        run_sync(km.shutdown_kernel)(now=True)
+
+
+sys.stdout.flush()
+workers = [fork.Process(target=kernel_worker) for _ in range(min(snakemake.threads, len(order)))]
+for worker in workers:
+    worker.start()
+for worker in workers:
+    worker.join()
+failed = [name for name, (_, _, output) in notebooks.items() if not os.path.exists(output)]
 if failed:
     raise RuntimeError(f"notebooks failed: {', '.join(failed)} (tracebacks in {snakemake.log.notebooks})")
