@@ -184,7 +184,8 @@ def test_decay_start_weighs_every_channel_alike():
     (lambda: modal.zero_phase_filter(np.ones(50), 0.01, lowpass_hz=5), "^y must be a 2-dimensional array"),
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.0, lowpass_hz=5), "^dt must be a finite number > 0"),
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, lowpass_hz=5, order=0), "^order must be an integer >= 1"),
-    (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, highpass_hz=-1.0), "^highpass_hz must be a finite number > 0"),
+    (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, highpass_hz=-1.0),
+     "^highpass_hz must be a finite number > 0"),
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, highpass_hz=1, lowpass_hz=0),
      "^lowpass_hz must be a finite number > 0"),
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01), "^highpass_hz or lowpass_hz must be given$"),
@@ -192,9 +193,10 @@ def test_decay_start_weighs_every_channel_alike():
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, highpass_hz=50),
      r"^highpass_hz = 50 must be below the Nyquist frequency 50\.0 Hz$"),
     (lambda: modal.zero_phase_filter(np.ones((50, 2)), 0.01, highpass_hz=10, lowpass_hz=10.0),
-     "^highpass_hz = 10 must be below lowpass_hz = 10.0$"),
-    # sosfiltfilt pads 3 (2 sections + 1) = 15 samples for order 4 and needs more than that
-    (lambda: modal.zero_phase_filter(np.ones((15, 2)), 0.01, lowpass_hz=5), "^y has 15 samples, too few to filter with order 4$"),
+     r"^highpass_hz = 10 must be below lowpass_hz = 10\.0$"),
+    # sosfiltfilt pads 3 (2 n_sections + 1) = 15 samples at order 4 (2 sections) and needs more than that
+    (lambda: modal.zero_phase_filter(np.ones((15, 2)), 0.01, lowpass_hz=5),
+     "^y has 15 samples, too few to filter with order 4$"),
     (lambda: modal.decimate(np.ones(500), 0.01, 2), "^y must be a 2-dimensional array"),
     (lambda: modal.decimate(np.ones((500, 2)), -0.01, 2), "^dt must be a finite number > 0"),
     (lambda: modal.decimate(np.ones((500, 2)), 0.01, 0), "^factor must be an integer >= 1"),
