@@ -447,3 +447,33 @@ def test_lowpass_keeps_a_bin_exactly_at_the_cutoff_on_an_odd_record():
     assert out.shape == (n, 2)
     np.testing.assert_allclose(out[:, 0], keep, atol=1e-12)
     np.testing.assert_allclose(out[:, 1], 0.0, atol=1e-12)
+
+
+def test_pole_indicators_of_an_overflowing_spurious_pole_are_silent():
+    """A spurious pole |z| = 50 over 400 block columns: its powers overflow
+    (50^399 > 1e308), so its MAMC is 0 (as documented), without a floating-point
+    warning, whether the poles are complex or all real; the physical pole
+    beside it (damping 3 %) keeps MAMC 1."""
+    from modal.era import pole_indicators
+
+    dt, omega, zeta, n_cols, n_sets = 0.01, 2 * np.pi * 4.2, 0.03, 400, 2
+    z = np.array([np.exp((-zeta + 1j * np.sqrt(1 - zeta**2)) * omega * dt), 50.0])
+    b = np.array([[1.0, 2.0 - 1j], [1.0, -1.0]])  # initial amplitudes per data set
+    powers = np.array([z[0] ** np.arange(n_cols), np.full(n_cols, 50.0**5)])  # the spurious history saturates
+    histories = (powers[:, :, None] * b[:, None, :]).reshape(2, n_cols * n_sets)
+    shapes = np.array([[1.0, 0.3], [0.5j, 1.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z, np.array([False, True]), shapes, histories, dt, n_sets)
+    np.testing.assert_allclose(out["mamc"], [1.0, 0.0], atol=1e-12)
+    assert out["damping"][0] == pytest.approx(zeta, rel=1e-9) and np.isnan(out["damping"][1])
+    assert out["omega"][0] == pytest.approx(omega, rel=1e-9)
+    np.testing.assert_array_equal(out["unstable"], [False, True])
+    # all poles real: numpy's eigvals returns them as a real array, whose powers
+    # overflow to inf without NaN, so the coherence is inf / inf = NaN before it is set to 0
+    z_real = np.array([0.5, 50.0])
+    histories = np.array([0.5 ** np.arange(n_cols), 50.0 ** np.minimum(np.arange(n_cols), 5)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z_real, np.array([True, True]), shapes, histories, dt, 1)
+    np.testing.assert_allclose(out["mamc"], [1.0, 0.0], atol=1e-12)
