@@ -218,9 +218,14 @@ def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
         step = next((q for q in range(min(13, remaining), 1, -1) if remaining % q == 0), remaining)
         stages.append(step)
         remaining //= step
+    n_samples, kept = y.shape[0], y.shape[0]
+    for done, step in enumerate(stages):
+        if kept <= 27 * step:  # scipy's filter, run forwards and backwards, needs 27 q samples
+            stage = f" (stage {done + 1} of {stages}: {kept} samples left, more than {27 * step} needed)"
+            raise ValueError(f"y has {n_samples} samples, too few to decimate by {factor}"
+                             f"{stage if done else ''}")
+        kept = -(-kept // step)
     for step in stages:
-        if y.shape[0] <= 27 * step:
-            raise ValueError(f"y has {y.shape[0]} samples, too few to decimate by {factor}")
         y = scipy_decimate(y, step, axis=0, zero_phase=True)
     return np.ascontiguousarray(y), dt * factor
 

@@ -203,6 +203,8 @@ def test_decay_start_weighs_every_channel_alike():
     (lambda: modal.decimate(np.ones((500, 2)), 0.01, 2.5), "^factor must be an integer >= 1"),
     # scipy's order-8 filter pads 27 samples: more than 27 per unit of the factor are needed
     (lambda: modal.decimate(np.ones((135, 2)), 0.01, 5), "^y has 135 samples, too few to decimate by 5$"),
+    (lambda: modal.decimate(np.ones((810, 2)), 0.01, 30),
+     r"^y has 810 samples, too few to decimate by 30 \(stage 2 of \[10, 3\]: 81 samples left, more than 81 needed\)$"),
     (lambda: modal.decay_start(np.ones(50)), "^y must be a 2-dimensional array"),
     (lambda: modal.decay_start(np.zeros((50, 3))), "^y is zero everywhere: no impact to find$"),
 ])
