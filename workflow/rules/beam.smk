@@ -14,7 +14,7 @@ rule identify:
         res("logs/identify_{study}_{interpretation}_{chunk}.log"),
     benchmark:
         res("benchmarks/identify_{study}_{interpretation}_{chunk}.tsv")
-    priority: CRITICAL_PATH
+    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=400,
@@ -37,7 +37,7 @@ rule merge_identified:
         res("identified/{study}_{interpretation}.csv"),
     log:
         res("logs/merge_identified_{study}_{interpretation}.log"),
-    priority: CRITICAL_PATH
+    priority: IDENTIFICATION_FIRST
     localrule: True
     threads: 1
     resources:
@@ -68,7 +68,6 @@ rule table:
         notes=note_files(table_numbers()),
     log:
         [res(f"logs/table_{n:02d}.log") for n in table_numbers()],
-    priority: CRITICAL_PATH
     threads: 1
     resources:
         mem_mb=300,

@@ -27,10 +27,12 @@ wildcard_constraints:
 
 
 # --- scheduling ------------------------------------------------------------------
-# The jobs on the way to the notebooks (identify -> merge -> tables -> summary
-# -> notebooks, and the grid's) run first; figures and the measured records
-# fill the cores these leave idle (Snakemake's default priority is 0).
-CRITICAL_PATH = 1
+# Every identification (beam chunks, grid tests, measured records) and its merge
+# runs before any table, figure or summary: they start the longest chains to the
+# notebooks, which need every table and figure (Snakemake's default priority is
+# 0). Measured: with the tables also first, the noise study's identification
+# waited behind them and its figures ran last, 2-3 s later.
+IDENTIFICATION_FIRST = 1
 
 
 # --- code inputs ---------------------------------------------------------------

@@ -17,7 +17,7 @@ rule grid_identify:
         res("logs/grid_identify_{chunk}.log"),
     benchmark:
         res("benchmarks/grid_identify_{chunk}.tsv")
-    priority: CRITICAL_PATH
+    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=500,
@@ -41,7 +41,7 @@ rule grid_merge:
         record=res("grid/record_first_seed.npz"),
     log:
         res("logs/grid_merge.log"),
-    priority: CRITICAL_PATH
+    priority: IDENTIFICATION_FIRST
     localrule: True
     threads: 1
     resources:
@@ -70,7 +70,6 @@ rule grid_table:
         notes=note_files(grid_tables()),
     log:
         [res(f"logs/table_{n:02d}.log") for n in grid_tables()],
-    priority: CRITICAL_PATH
     threads: 1
     resources:
         mem_mb=300,

@@ -17,6 +17,7 @@ rule measured_identify:
     benchmark:
         res("benchmarks/measured_{name}.tsv")
     threads: 1
+    priority: IDENTIFICATION_FIRST
     resources:
         mem_mb=1000,
         runtime=10,

@@ -12,7 +12,6 @@ rule summary:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:
         res("logs/summary.log"),
-    priority: CRITICAL_PATH
     threads: 1
     resources:
         mem_mb=300,
@@ -40,7 +39,6 @@ rule notebook:
         # failure it holds the traceback; on success it is copied to output.
         notebooks=[res(f"logs/notebook_{name}.ipynb") for name in NOTEBOOKS],
         text=res("logs/notebook.log"),
-    priority: CRITICAL_PATH
     threads: 2
     resources:
         mem_mb=1500,
