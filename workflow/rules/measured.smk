@@ -16,8 +16,8 @@ rule measured_identify:
         res("logs/measured_{name}.log"),
     benchmark:
         res("benchmarks/measured_{name}.tsv")
-    threads: 1
     priority: IDENTIFICATION_FIRST
+    threads: 1
     resources:
         mem_mb=1000,
         runtime=10,
