@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import positive_float, positive_int, records, unit_scale
+from ._checks import finite_array, positive_float, positive_int, records, unit_scale
 from .hankel import hankel
 from .indicators import modal_amplitude_coherence, modal_phase_collinearity
 from .result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
@@ -246,11 +246,30 @@ def leading_eigenpairs(sym, k):
     0.9 ms for all 360 by dsterf, measured). For fewer eigenvalues
     (:data:`BISECTION_MAX_FRACTION`), or when dstein does not converge,
     scipy.linalg.eigh's subset driver (dsyevr) is used.
+
+    Parameters
+    ----------
+    sym : array_like, shape (n, n)
+        Symmetric; only its lower triangle is read.
+    k : int
+        How many eigenpairs, ``1 <= k <= n``.
+
+    Returns
+    -------
+    lam : ndarray, shape (k,)
+    u : ndarray, shape (n, k)
+        Orthonormal eigenvectors, ``sym u = u diag(lam)``.
     """
     from scipy.linalg import eigh
     from scipy.linalg.lapack import dormqr, dstein, dsterf, dsytrd
 
+    sym = finite_array("sym", sym, ndim=(2,))
     n = sym.shape[0]
+    if sym.shape != (n, n):
+        raise ValueError(f"sym must be a square matrix, got shape {sym.shape}")
+    k = positive_int("k", k)
+    if k > n:
+        raise ValueError(f"k = {k} exceeds the order {n} of sym")
     if k >= n - 1:
         lam, u = np.linalg.eigh(sym)
         return lam[::-1][:k], u[:, ::-1][:, :k]

@@ -131,6 +131,21 @@ def test_leading_eigenpairs_against_numpy(n, k):
     np.testing.assert_allclose(u.T @ u, np.eye(k), atol=1e-13)
 
 
+def test_leading_eigenpairs_refuses_bad_input():
+    sym = np.eye(5)
+    for bad, message in [
+        ((np.ones((4, 5)), 2), "^sym must be a square matrix, got shape \\(4, 5\\)"),
+        ((np.where(sym > 0, np.nan, 0), 2), "^sym contains NaN or inf"),
+        ((np.ones(5), 1), "^sym must be a 2-dimensional array"),
+        ((sym, 0), "^k must be an integer >= 1"),
+        ((sym, 6), "^k = 6 exceeds the order 5 of sym"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            leading_eigenpairs(*bad)
+    lam, u = leading_eigenpairs(sym * 2, 5)  # k = n is accepted
+    np.testing.assert_allclose(lam, 2.0)
+
+
 def test_leading_eigenpairs_of_a_split_matrix_with_double_eigenvalues():
     sym = _block_diagonal(np.random.default_rng(5))
     lam, u = leading_eigenpairs(sym, 30)
