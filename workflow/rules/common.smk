@@ -253,24 +253,19 @@ def grid_outputs():
 
 
 # --- the report (report.smk) ------------------------------------------------------
-NOTEBOOKS = [
-    "00_summary",
-    "01_method_demo",
-    "02_noise_study",
-    "03_spillover",
-    "04_cera",
-    "05_grid",
-]
-# The order the notebook job's kernels take them in: longest first (measured
-# cell times 2.2, 1.7, 1.3, 0.8, 0.5, 0.5 s), so its kernels finish together.
-NOTEBOOKS_LONGEST_FIRST = [
-    "02_noise_study",
-    "00_summary",
-    "01_method_demo",
-    "03_spillover",
-    "05_grid",
-    "04_cera",
-]
+# The report notebooks in chapter order, each with its cells' measured time
+# (s, papermill): the notebook job's kernels take them longest first, so the
+# kernels finish together.
+NOTEBOOK_SECONDS = {
+    "00_summary": 1.7,
+    "01_method_demo": 1.3,
+    "02_noise_study": 2.2,
+    "03_spillover": 0.8,
+    "04_cera": 0.43,
+    "05_grid": 0.45,
+}
+NOTEBOOKS = list(NOTEBOOK_SECONDS)
+NOTEBOOKS_LONGEST_FIRST = sorted(NOTEBOOKS, key=NOTEBOOK_SECONDS.get, reverse=True)
 SUMMARY = res("tables/summary.csv")
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.
