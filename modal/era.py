@@ -390,19 +390,80 @@ def eigen_poles(phi, output, states):
         ``E_p^T P D^{1/2} psi`` (Eq. 45) for the kept eigenvalues.
     histories : ndarray, shape (n, m s)
         Their modal amplitudes over the Hankel columns, the kept rows of
-        ``psi^{-1} D^{1/2} Q^T`` (for the modal amplitude coherence); only
-        those rows are formed.
+        ``psi^{-1} D^{1/2} Q^T`` (for the modal amplitude coherence).
     """
-    z, psi = np.linalg.eig(phi)  # Eq. (42)
-    real = np.abs(z.imag) <= REAL_POLE_TOL * np.abs(z)
-    keep = real | (z.imag > 0)
-    complex_shapes = output @ psi[:, keep]  # Eq. (45)
-    # the kept rows of psi^{-1}: solve psi^T X = the kept columns of I
-    rows = np.linalg.solve(psi.T, np.eye(len(z))[:, keep]).T
-    n = len(rows)  # states is real: two real products instead of one complex
-    stacked = np.concatenate([rows.real, rows.imag]) @ states
-    histories = stacked[:n] + 1j * stacked[n:]
-    return z[keep], real[keep], complex_shapes, histories
+    return complex_poles(*real_eigensystem(phi, output, states))[:4]
+
+
+def real_eigensystem(phi, output, states):
+    """Solve ``Phi psi = psi z`` (Eq. 42) in real arithmetic (LAPACK dgeev)
+    and map the output matrix and the states onto the eigenvectors.
+
+    dgeev's real eigenvector matrix ``V`` holds a real eigenvalue's
+    eigenvector as one column and a complex pair ``psi = x +- i y`` (the
+    eigenvalue with ``wi > 0`` first, its conjugate next) as the two columns
+    ``x, y``; ``V^{-1}`` holds the rows of ``psi^{-1}`` the same way
+    (:func:`complex_poles`), so no complex matrix is factorised.
+
+    Parameters
+    ----------
+    phi, output, states
+        As :func:`eigen_poles`.
+
+    Returns
+    -------
+    wr, wi : ndarray, shape (k,)
+        Real and imaginary parts of the eigenvalues ``z``.
+    real_shapes : ndarray, shape (l, k)
+        ``E_p^T P D^{1/2} V`` (Eq. 45 in ``V``'s columns).
+    real_histories : ndarray, shape (k, m s)
+        ``V^{-1} D^{1/2} Q^T``.
+    """
+    from scipy.linalg.lapack import dgeev, dgetrf, dgetri  # scipy is imported only where it is used
+
+    wr, wi, _, vectors, info = dgeev(phi, compute_vl=0)
+    if info:
+        raise np.linalg.LinAlgError(f"the QR algorithm did not converge on the {len(phi)}-order state matrix "
+                                    f"(LAPACK dgeev info = {info})")
+    lu, pivots, info = dgetrf(vectors)
+    if not info:
+        inverse, info = dgetri(lu, pivots)
+    if info:
+        raise np.linalg.LinAlgError(f"the eigenvectors of the {len(phi)}-order state matrix are linearly dependent "
+                                    "(a defective state matrix)")
+    return wr, wi, output @ vectors, inverse @ states
+
+
+def complex_poles(wr, wi, real_shapes, real_histories):
+    """:func:`eigen_poles`'s outputs from one or more real eigensystems
+    (:func:`real_eigensystem`) concatenated along the eigenvalues.
+
+    Since ``psi = V M`` with
+    ``M = [[1, 1], [i, -i]]`` on each complex pair, the shape of ``z = wr + i
+    wi`` (``wi > 0``) is ``x + i y`` and its row of ``psi^{-1} = M^{-1} V^{-1}``
+    is ``(r_x - i r_y) / 2``, with ``x, y`` and ``r_x, r_y`` the pair's columns
+    of ``real_shapes`` and rows of ``real_histories``; the conjugate takes
+    ``+ i``. A complex pair never straddles two concatenated eigensystems.
+
+    Returns
+    -------
+    z, real, complex_shapes, histories
+        As :func:`eigen_poles`.
+    kept : ndarray of int
+        Positions of the kept eigenvalues in ``wr``.
+    """
+    z = wr + 1j * wi
+    real = np.abs(wi) <= REAL_POLE_TOL * np.abs(z)
+    kept = np.flatnonzero(real | (wi > 0))
+    sign = np.sign(wi[kept])
+    x = kept - (sign < 0)  # the pair's first column (its own for a real eigenvalue)
+    y = x + (sign != 0)
+    complex_shapes = real_shapes[:, x] + 1j * (sign * real_shapes[:, y])  # Eq. (45)
+    half = np.where(sign != 0, 0.5, 1.0)[:, None]
+    histories = np.empty((len(kept), real_histories.shape[1]), dtype=complex)
+    np.multiply(real_histories[x], half, out=histories.real)
+    np.multiply(real_histories[y], -half * sign[:, None], out=histories.imag)
+    return z[kept], real[kept], complex_shapes, histories, kept
 
 
 def pole_indicators(z, real, complex_shapes, histories, dt, n_sets) -> dict:

@@ -21,7 +21,7 @@ import pandas as pd
 import scipy.fft
 
 from ._checks import nonnegative_float, positive_float, positive_int, records
-from .era import decompose, eigen_poles, pole_indicators, realisation
+from .era import complex_poles, decompose, pole_indicators, real_eigensystem, realisation
 from .hankel import hankel
 from .indicators import mac, paired_mac
 from .result import ModalWarning
@@ -218,9 +218,12 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
     The realisation of order ``k`` is the leading ``k x k`` block of the
     largest order's ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` (Eq. 41) and the
     leading ``k`` columns of ``E_p^T P D^{1/2}`` (Eq. 43), so both are formed
-    once. Each order then costs its eigenproblem (Eq. 42) and the kept rows
-    of ``psi^{-1}``; frequencies, damping, MPC and MAMC follow for all poles
-    at once (:func:`modal.era.pole_indicators`).
+    once. Each order then costs its real eigenproblem (Eq. 42,
+    :func:`modal.era.real_eigensystem`) and the inverse of its eigenvector
+    matrix; complex shapes and modal histories (:func:`modal.era.complex_poles`),
+    frequencies, damping, MPC and MAMC (:func:`modal.era.pole_indicators`)
+    follow for all poles of all orders at once, as :func:`modal.era.realise`
+    gives them order by order.
 
     Returns
     -------
@@ -229,20 +232,27 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
         one entry per pole, by order and then by frequency.
     pole_shapes : ndarray, shape (n_poles, l)
     """
-    k = orders[-1] if orders else 0
-    phi, output, states = realisation(p[:, :k], d[:k], qt[:k], h1, l)  # Eqs. (41), (43)
-    parts = []
-    for done, order in enumerate(orders, 1):
-        parts.append((order, *eigen_poles(phi[:order, :order], output[:, :order], states[:order])))
-        if progress is not None:
-            progress(done, len(orders))
-    if not parts:
+    if not orders:
         empty = np.empty(0)
         return ({"order": np.empty(0, dtype=int), "freq_hz": empty, "damping": empty, "mpc": empty, "mamc": empty,
                  "real_pole": np.empty(0, dtype=bool)}, np.empty((0, l)))
-    order = np.concatenate([np.full(len(z), o) for o, z, *_ in parts])
-    z, real, complex_shapes, histories = (np.concatenate([part[i] for part in parts], axis=axis)
-                                          for i, axis in ((1, 0), (2, 0), (3, 1), (4, 0)))
+    phi, output, states = realisation(p[:, :orders[-1]], d[:orders[-1]], qt[:orders[-1]], h1, l)  # Eqs. (41), (43)
+    # every order's real eigensystem side by side, then one pass over all poles;
+    # LAPACK reads Fortran order, so each block is then copied without a transpose
+    phi, states = np.asfortranarray(phi), np.ascontiguousarray(states)
+    n = sum(orders)
+    wr, wi = np.empty(n), np.empty(n)
+    real_shapes, real_histories = np.empty((l, n)), np.empty((n, states.shape[1]))
+    end = 0
+    for done, k in enumerate(orders, 1):
+        block = slice(end, end + k)
+        wr[block], wi[block], real_shapes[:, block], real_histories[block] = real_eigensystem(
+            phi[:k, :k], output[:, :k], states[:k])  # Eq. (42)
+        end += k
+        if progress is not None:
+            progress(done, len(orders))
+    z, real, complex_shapes, histories, kept = complex_poles(wr, wi, real_shapes, real_histories)
+    order = np.repeat(orders, orders)[kept]
     poles = pole_indicators(z, real, complex_shapes, histories, dt, m)
     by = np.lexsort((poles["omega"], order))  # stable: ties keep realise()'s order
     table = {
@@ -296,31 +306,28 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, cluster_distance: float,
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     clusters = fcluster(linkage(squareform(distance, checks=False), method="average"), cluster_distance, "distance")
-    table = {name: poles[name] for name in ("freq_hz", "damping", "mpc", "mamc")}
-    rows, reps = [], []
-    for cluster in np.flatnonzero(np.bincount(clusters) >= min_poles):
-        members = np.flatnonzero(clusters == cluster)
-        medoid = members[np.argmin(distance[np.ix_(members, members)].sum(axis=1))]
-        group = {name: values[candidates[members]] for name, values in table.items()}
-        rows.append({
-            "freq_hz": group["freq_hz"].mean(),
-            "freq_std_hz": group["freq_hz"].std(ddof=1),
-            "damping": group["damping"].mean(),
-            "damping_std": group["damping"].std(ddof=1),
-            "n_poles": len(members),
-            "mpc": group["mpc"].mean(),
-            "mamc": group["mamc"].mean(),
-            "members": candidates[members],
-        })
-        reps.append(shapes[:, medoid])
-    if not rows:
+    members = np.flatnonzero(np.bincount(clusters)[clusters] >= min_poles)  # of the clusters that are modes
+    if not len(members):
         return labels, _no_modes(), np.empty((pole_shapes.shape[1], 0))
-    order = np.argsort([r["freq_hz"] for r in rows], kind="stable")
-    for number, i in enumerate(order, 1):
-        labels[rows[i].pop("members")] = number
-        rows[i]["mode"] = number
-    modes = pd.DataFrame({c: np.array([rows[i][c] for i in order]) for c in MODE_COLUMNS})
-    return labels, modes, np.column_stack([reps[i] for i in order])
+    _, cluster = np.unique(clusters[members], return_inverse=True)
+    group = {name: poles[name][candidates[members]] for name in ("freq_hz", "damping", "mpc", "mamc")}
+    # modes numbered by mean frequency
+    mode = np.argsort(np.argsort(np.bincount(cluster, group["freq_hz"]) / np.bincount(cluster), kind="stable"))[cluster]
+    labels[candidates[members]] = mode + 1
+    count = np.bincount(mode)
+    mean = {name: np.bincount(mode, values) / count for name, values in group.items()}
+    with np.errstate(invalid="ignore", divide="ignore"):  # a one-pole mode (min_poles = 1) has no std
+        std = {name: np.sqrt(np.bincount(mode, (group[name] - mean[name][mode]) ** 2) / (count - 1))
+               for name in ("freq_hz", "damping")}
+    modes = pd.DataFrame({
+        "mode": np.arange(1, len(count) + 1), "freq_hz": mean["freq_hz"], "freq_std_hz": std["freq_hz"],
+        "damping": mean["damping"], "damping_std": std["damping"], "n_poles": count, "mpc": mean["mpc"],
+        "mamc": mean["mamc"],
+    })
+    # each mode's medoid: the member with the least distance summed over its mode (the first on ties)
+    spread = np.where(mode[:, None] == mode[None, :], distance[np.ix_(members, members)], 0).sum(axis=1)
+    medoids = members[np.lexsort((spread, mode))[np.cumsum(count) - count]]
+    return labels, modes, shapes[:, medoids]
 
 
 def _no_modes() -> pd.DataFrame:
