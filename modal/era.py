@@ -261,7 +261,7 @@ def leading_eigenpairs(sym, k):
         Orthonormal eigenvectors, ``sym u = u diag(lam)``.
     """
     from scipy.linalg import eigh
-    from scipy.linalg.lapack import dormqr, dstein, dsterf, dsytrd
+    from scipy.linalg.lapack import dormqr, dstein, dsterf, dsytrd, dsytrd_lwork
 
     sym = finite_array("sym", sym, ndim=(2,))
     n = sym.shape[0]
@@ -276,7 +276,9 @@ def leading_eigenpairs(sym, k):
     if k >= BISECTION_MAX_FRACTION * n:
         # the lower triangle: Q = H(1) ... H(n-1), reflector i stored below A(i+1, i), as geqrf
         # stores the QR factors of A(2:n, 1:n-1) (LAPACK's dormtr applies them so)
-        reflectors, diag, off, tau, info = dsytrd(sym, lower=1)
+        # with LAPACK's optimal workspace: the default (n) leaves dsytrd unblocked, 1.6 x slower at n = 360
+        lwork, info = dsytrd_lwork(n, lower=1)
+        reflectors, diag, off, tau, info = dsytrd(sym, lower=1, lwork=int(lwork))
         lam, info_sterf = dsterf(diag, off)
         wanted = lam[n - k:]  # increasing, as dstein wants them (one block: no split given)
         vectors, info_stein = dstein(diag, off, wanted, np.ones(n, dtype=np.int32), np.full(n, n, dtype=np.int32))
