@@ -303,6 +303,7 @@ def block_hankel_gram(a, rows_per_block, cols_per_block):
     r, s = a.shape[0] // bl, a.shape[1] // bm
     gram = np.empty((r * bl, r * bl))
     gram[:bl] = a[:bl] @ a.T
+    gram[bl:, :bl] = gram[:bl, bl:].T
     if r > 1:
         # Every Y(t), t = 0 .. r+s-2: the first block row, then the last block column.
         samples = np.concatenate([
@@ -313,12 +314,10 @@ def block_hankel_gram(a, rows_per_block, cols_per_block):
         tail = samples[s:].reshape((r - 1) * bl, bm)
         step = tail @ tail.T - head @ head.T  # block (t, u): Y(t+s) Y(u+s)^T - Y(t) Y(u)^T
         for i in range(1, r):
-            gram[i * bl:(i + 1) * bl, i * bl:] = (
-                gram[(i - 1) * bl:i * bl, (i - 1) * bl:-bl] + step[(i - 1) * bl:i * bl, (i - 1) * bl:]
-            )
-    upper = np.triu(np.ones((r, r), dtype=bool))
-    mask = np.kron(upper, np.ones((bl, bl), dtype=bool))
-    return np.where(mask, gram, gram.T)
+            row = gram[(i - 1) * bl:i * bl, (i - 1) * bl:-bl] + step[(i - 1) * bl:i * bl, (i - 1) * bl:]
+            gram[i * bl:(i + 1) * bl, i * bl:] = row  # block row i from its diagonal block on
+            gram[(i + 1) * bl:, i * bl:(i + 1) * bl] = row[:, bl:].T  # and, mirrored, block column i
+    return gram
 
 
 def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=np.inf) -> ModalResult:
