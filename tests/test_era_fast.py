@@ -311,3 +311,49 @@ def test_block_checked():
     for shape, block in [((5, 8), (2, 1)), ((6, 8), (1, 3))]:
         with pytest.raises(ValueError, match="not a block Hankel"):
             decompose(np.ones(shape), 1, method="gram", block=block)
+
+
+def test_eigen_poles_match_the_complex_eigendecomposition():
+    """Shapes and modal histories from dgeev's real eigenvectors and their real
+    inverse (Eqs. 42, 45) equal those of the complex eigendecomposition: ``E_p^T
+    P D^{1/2} psi`` and the rows of ``psi^{-1} D^{1/2} Q^T`` of the kept poles.
+    The state matrix has real eigenvalues, complex pairs, and a pair whose
+    imaginary part is 1e-12 of its modulus: both of that pair are kept as real
+    poles, the second with the conjugate shape and history."""
+    rng = np.random.default_rng(11)
+    near_real = 0.9 * np.array([[1, -1e-12], [1e-12, 1]])
+    phi = np.zeros((9, 9))
+    phi[:7, :7] = rng.standard_normal((7, 7)) / 3
+    phi[7:, 7:] = near_real
+    output, states = rng.standard_normal((4, 9)), rng.standard_normal((9, 50))
+    z, real, shapes, histories = era_module.eigen_poles(phi, output, states)
+
+    w, psi = np.linalg.eig(phi)
+    kept = (np.abs(w.imag) <= era_module.REAL_POLE_TOL * np.abs(w)) | (w.imag > 0)
+    np.testing.assert_allclose(z, w[kept], rtol=1e-14)
+    np.testing.assert_allclose(shapes, output @ psi[:, kept], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(histories, np.linalg.inv(psi)[kept] @ states, rtol=1e-10, atol=1e-10)
+    assert real.sum() == 5 and (~real).sum() == 2  # R: 3 real eigenvalues and 2 pairs; the near-real pair
+    assert np.sum(w.imag == 0) == 3
+    pair = np.flatnonzero(np.abs(z - 0.9) < 1e-9)
+    assert len(pair) == 2 and real[pair].all()
+    np.testing.assert_allclose(shapes[:, pair[1]], shapes[:, pair[0]].conj(), rtol=1e-14)
+    np.testing.assert_allclose(histories[pair[1]], histories[pair[0]].conj(), rtol=1e-14)
+
+
+@pytest.mark.parametrize("failure, message", [("no convergence", "did not converge"),
+                                              ("defective", "linearly dependent")])
+def test_eigen_poles_refuse_what_lapack_cannot_decompose(monkeypatch, failure, message):
+    """dgeev reporting no convergence, or a defective state matrix (a Jordan
+    block: one eigenvector for a double eigenvalue, so psi^{-1} does not exist),
+    give a LinAlgError that says so instead of NaN or garbage. dgeev's own
+    rounding hides the exact defect, so it is stood in for."""
+    import scipy.linalg.lapack
+
+    phi = np.array([[0.5, 1.0], [0.0, 0.5]])
+    vectors = np.array([[1.0, 1.0], [0.0, 0.0]])  # the exact eigenvectors, twice the same
+    info = 1 if failure == "no convergence" else 0
+    monkeypatch.setattr(scipy.linalg.lapack, "dgeev",
+                        lambda a, compute_vl: (np.full(2, 0.5), np.zeros(2), None, vectors, info))
+    with pytest.raises(np.linalg.LinAlgError, match=message):
+        era_module.eigen_poles(phi, np.ones((1, 2)), np.ones((2, 5)))
