@@ -15,8 +15,8 @@ On the Palisaden fixture (tests/data, 30 min at 20 Hz, six channels, high-pass
 The issue's budget: the diagram costs at most 1.5 x one thin SVD of its
 Hankel matrix. The SVD and the diagram are timed alternately, ``ROUNDS``
 times; each round gives a ratio, and the table shows the median time and
-the median ratio (the machine is shared: absolute times follow the load, the
-ratios much less). The load average is printed with the table.
+the median ratio with its quartiles (the machine is shared: absolute times
+follow the load, the ratios much less). The load average is printed with the table.
 
 Run: ``.venv/bin/python benchmarks/bench_stabilisation.py``
 """
@@ -44,9 +44,9 @@ def _seconds(fn):
 
 def side_by_side(reference, candidate, rounds=ROUNDS):
     """Median times of ``reference`` and ``candidate`` run alternately, and
-    the median of their per-round ratio."""
+    the quartiles of their per-round ratio (first, median, third)."""
     pairs = np.array([(_seconds(reference), _seconds(candidate)) for _ in range(rounds)])
-    return np.median(pairs[:, 0]), np.median(pairs[:, 1]), np.median(pairs[:, 1] / pairs[:, 0])
+    return np.median(pairs[:, 0]), np.median(pairs[:, 1]), np.percentile(pairs[:, 1] / pairs[:, 0], [25, 50, 75])
 
 
 def main():
@@ -60,15 +60,15 @@ def main():
             modal.stabilisation(r, dt, MAX_ORDER, block_rows)  # warm-up
             t_svd, t_stab, ratio = side_by_side(lambda: np.linalg.svd(h0, full_matrices=False),
                                                 lambda: modal.stabilisation(r, dt, MAX_ORDER, block_rows))
-            rows.append((f"thin SVD of H(0) {h0.shape[0]} x {h0.shape[1]} ({block_rows} block rows)", t_svd, 1.0))
+            rows.append((f"thin SVD of H(0) {h0.shape[0]} x {h0.shape[1]} ({block_rows} block rows)", t_svd, [1.0] * 3))
             rows.append((f"modal.stabilisation on it, orders 2..{MAX_ORDER}", t_stab, ratio))
             if block_rows == ROWS:
                 t_svd_small = t_svd
-                _, t_all, _ = side_by_side(lambda: np.linalg.svd(h0, full_matrices=False),
-                                           lambda: modal.identify_record(acc, dt, "ambient", MAX_ORDER, fmax=5,
-                                                                         rows=ROWS, highpass_hz=0.5), rounds=7)
-                rows.append(("modal.identify_record (filter, correlations, diagram, selection)", t_all,
-                             t_all / t_svd))
+                _, t_all, ratio_all = side_by_side(
+                    lambda: np.linalg.svd(h0, full_matrices=False),
+                    lambda: modal.identify_record(acc, dt, "ambient", MAX_ORDER, fmax=5, rows=ROWS, highpass_hz=0.5),
+                    rounds=7)
+                rows.append(("modal.identify_record (filter, correlations, diagram, selection)", t_all, ratio_all))
         try:
             from pyoma2.algorithms import SSI
             from pyoma2.setup import SingleSetup
@@ -81,12 +81,12 @@ def main():
                 setup.run_by_name("SSIcov")
 
             t_pyoma = min(_seconds(pyoma2_ssicov) for _ in range(3))
-            rows.append(("pyOMA2 SSI-cov, same Hankel size and orders", t_pyoma, t_pyoma / t_svd_small))
+            rows.append(("pyOMA2 SSI-cov, same Hankel size and orders", t_pyoma, [t_pyoma / t_svd_small] * 3))
     width = max(len(name) for name, *_ in rows)
     print(f"load average {' '.join(f'{x:.1f}' for x in os.getloadavg())} on {os.cpu_count()} CPUs")
-    print(f"{'step':<{width}}  seconds  x the SVD above it (median ratio)")
-    for name, seconds, ratio in rows:
-        print(f"{name:<{width}}  {seconds:7.4f}  {ratio:6.2f}")
+    print(f"{'step':<{width}}  seconds  x the SVD above it: median (quartiles)")
+    for name, seconds, (q1, median, q3) in rows:
+        print(f"{name:<{width}}  {seconds:7.4f}  {median:6.2f} ({q1:.2f}-{q3:.2f})")
 
 
 if __name__ == "__main__":
