@@ -439,12 +439,18 @@ def complex_poles(wr, wi, real_shapes, real_histories):
     """:func:`eigen_poles`'s outputs from one or more real eigensystems
     (:func:`real_eigensystem`) concatenated along the eigenvalues.
 
-    Since ``psi = V M`` with
-    ``M = [[1, 1], [i, -i]]`` on each complex pair, the shape of ``z = wr + i
-    wi`` (``wi > 0``) is ``x + i y`` and its row of ``psi^{-1} = M^{-1} V^{-1}``
-    is ``(r_x - i r_y) / 2``, with ``x, y`` and ``r_x, r_y`` the pair's columns
-    of ``real_shapes`` and rows of ``real_histories``; the conjugate takes
-    ``+ i``. A complex pair never straddles two concatenated eigensystems.
+    The complex eigenvectors are ``psi = V M`` with ``M = [[1, 1], [i, -i]]``
+    on each complex pair, so the shape of ``z = wr + i wi`` (``wi > 0``) is
+    ``x + i y`` and its row of ``psi^{-1} = M^{-1} V^{-1}`` is
+    ``(r_x - i r_y) / 2``, with ``x, y`` and ``r_x, r_y`` the pair's columns of
+    ``real_shapes`` and rows of ``real_histories``; its conjugate's are
+    ``x - i y`` and ``(r_x + i r_y) / 2`` (kept when the pair is near-real).
+
+    Parameters
+    ----------
+    wr, wi, real_shapes, real_histories : ndarray
+        As :func:`real_eigensystem` returns them, or several of its results
+        concatenated (a complex pair never straddles two of them).
 
     Returns
     -------
