@@ -341,8 +341,10 @@ def test_eigen_poles_match_the_complex_eigendecomposition():
     np.testing.assert_allclose(histories[pair[1]], histories[pair[0]].conj(), rtol=1e-14)
 
 
-@pytest.mark.parametrize("failure, message", [("no convergence", "did not converge"),
-                                              ("defective", "linearly dependent")])
+@pytest.mark.parametrize("failure, message", [
+    ("no convergence", r"^the QR algorithm did not converge on the 2-order state matrix \(LAPACK dgeev info = 1\)$"),
+    ("defective", r"^the eigenvectors of the 2-order state matrix are linearly dependent \(a defective state matrix\)$"),
+])
 def test_eigen_poles_refuse_what_lapack_cannot_decompose(monkeypatch, failure, message):
     """dgeev reporting no convergence, or a defective state matrix (a Jordan
     block: one eigenvector for a double eigenvalue, so psi^{-1} does not exist),
@@ -357,3 +359,38 @@ def test_eigen_poles_refuse_what_lapack_cannot_decompose(monkeypatch, failure, m
                         lambda a, compute_vl: (np.full(2, 0.5), np.zeros(2), None, vectors, info))
     with pytest.raises(np.linalg.LinAlgError, match=message):
         era_module.eigen_poles(phi, np.ones((1, 2)), np.ones((2, 5)))
+
+
+def test_real_pole_test_is_relative_to_the_modulus():
+    """A pole is real when ``|Im z| <= REAL_POLE_TOL |z|``, i.e. when its angle
+    is below the tolerance, whatever its modulus: 2 x 2 blocks ``r [[c, -s], [s,
+    c]]`` (eigenvalues ``r e^{+-i theta}``, exactly) with ``sin theta`` half or
+    twice the tolerance, at moduli 0.05 and 0.06 (well inside the unit circle)
+    and 20 and 25 (far outside). The half-tolerance pairs are two real poles
+    each, with conjugate shapes; the others one complex pole, as
+    numpy.linalg.eig and the inverse of its eigenvectors give them."""
+    tol = era_module.REAL_POLE_TOL
+    blocks = [(0.05, 0.5 * tol), (0.06, 2 * tol), (20.0, 0.5 * tol), (25.0, 2 * tol)]
+    phi = np.zeros((8, 8))
+    for i, (r, sin) in enumerate(blocks):
+        c = np.sqrt(1 - sin**2)
+        phi[2 * i:2 * i + 2, 2 * i:2 * i + 2] = r * np.array([[c, -sin], [sin, c]])
+    rng = np.random.default_rng(12)
+    output, states = rng.standard_normal((3, 8)), rng.standard_normal((8, 40))
+    z, real, shapes, histories = era_module.eigen_poles(phi, output, states)
+
+    for r, sin in blocks:
+        at = np.flatnonzero(np.isclose(np.abs(z), r, rtol=1e-12))
+        if sin < tol:
+            assert len(at) == 2 and real[at].all(), r
+            np.testing.assert_allclose(z[at].imag, [r * sin, -r * sin], rtol=1e-9)
+            np.testing.assert_allclose(shapes[:, at[1]], shapes[:, at[0]].conj(), rtol=1e-14)
+        else:
+            assert len(at) == 1 and not real[at].any(), r
+            assert z[at[0]].imag == pytest.approx(r * sin, rel=1e-9)
+    w, psi = np.linalg.eig(phi)
+    kept = [0, 1, 2, 4, 5, 6]  # both of each half-tolerance pair, the Im > 0 one of the others
+    assert np.all(w.imag[[2, 6]] > 0)
+    np.testing.assert_allclose(z, w[kept], rtol=1e-14)
+    np.testing.assert_allclose(shapes, output @ psi[:, kept], rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(histories, np.linalg.inv(psi)[kept] @ states, rtol=1e-9, atol=1e-9)

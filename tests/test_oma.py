@@ -877,3 +877,40 @@ def test_select_modes_joins_groups_by_average_linkage():
     labels, modes, _ = _select_modes(poles, pole_shapes, cluster_distance=0.012, min_poles=2)
     np.testing.assert_array_equal(labels, [0, 1, 1])
     assert modes["n_poles"].tolist() == [2] and modes["freq_hz"].iloc[0] == pytest.approx(1.015, rel=1e-12)
+
+
+def test_select_modes_numbers_modes_by_mean_frequency():
+    """Modes are numbered by their members' mean frequency, not by a sum that
+    grows with the number of poles: five poles near 1 Hz are mode 1 and two
+    near 2 Hz mode 2 (the sums, 5 and 4 Hz, or sums times counts, 25 and 8,
+    would order them the other way)."""
+    from modal.stabilisation import _select_modes
+
+    freqs = [2.0, 2.001, 1.0, 1.001, 0.999, 1.0005, 0.9995]
+    shapes = [[0.0, 1.0, 1.0]] * 2 + [[1.0, 0.0, 0.5]] * 5
+    poles, pole_shapes = _pole_table(freqs, shapes)
+    labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.01, min_poles=2)
+    np.testing.assert_array_equal(labels, [2, 2, 1, 1, 1, 1, 1])
+    np.testing.assert_array_equal(modes["n_poles"], [5, 2])
+    np.testing.assert_allclose(modes["freq_hz"], [1.0, 2.0005], rtol=1e-12)
+    np.testing.assert_array_equal(reps.T, [[1.0, 0.0, 0.5], [0.0, 1.0, 1.0]])
+
+
+def test_select_modes_one_pole_modes_have_nan_spread_silently():
+    """min_poles = 1: two distant poles are two one-pole modes, whose sample
+    standard deviations (ddof = 1) are NaN without a floating-point warning;
+    their means and shapes are the poles' own."""
+    import warnings
+
+    from modal.stabilisation import _select_modes
+
+    poles, pole_shapes = _pole_table([3.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=1)
+    np.testing.assert_array_equal(labels, [2, 1])
+    np.testing.assert_array_equal(modes["n_poles"], [1, 1])
+    np.testing.assert_array_equal(modes["freq_hz"], [1.0, 3.0])
+    np.testing.assert_array_equal(modes["damping"], poles["damping"][[1, 0]])
+    assert modes["freq_std_hz"].isna().all() and modes["damping_std"].isna().all()
+    np.testing.assert_array_equal(reps, [[0.0, 1.0], [1.0, 0.0]])
