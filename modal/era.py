@@ -485,10 +485,10 @@ def pole_indicators(z, real, complex_shapes, histories, dt, n_sets) -> dict:
     ``shapes`` (n_channels, n). Returns a dict with these keys, ``z`` and
     ``real_pole``, in the input order.
     """
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # z = 0 (a singular Phi): log z = -inf, omega = inf
         s = np.log(z.astype(complex)) / dt  # Eq. (44), j = 0
-    omega = np.abs(s)
-    damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
+        omega = np.abs(s)
+        damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
     with np.errstate(over="ignore", invalid="ignore"):
         mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, n_sets), nan=0.0)
     return {

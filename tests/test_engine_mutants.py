@@ -477,3 +477,20 @@ def test_pole_indicators_of_an_overflowing_spurious_pole_are_silent():
         warnings.simplefilter("error")
         out = pole_indicators(z_real, np.array([True, True]), shapes, histories, dt, 1)
     np.testing.assert_allclose(out["mamc"], [1.0, 0.0], atol=1e-12)
+
+
+def test_pole_indicators_of_a_pole_at_the_origin_are_silent():
+    """A state matrix with a zero eigenvalue (e.g. a realisation of zero-padded
+    data) gives a real pole at z = 0: s = ln z / dt is -inf, so its frequency
+    is inf and its damping NaN (a real pole's), without a floating-point
+    warning; the pole beside it is unaffected."""
+    from modal.era import pole_indicators
+
+    dt = 0.01
+    z = np.array([0.0, 0.9 * np.exp(0.3j)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z, np.array([True, False]), np.array([[1.0, 1.0], [0.5, 1j]]),
+                              np.ones((2, 8), complex), dt, 1)
+    assert out["omega"][0] == np.inf and np.isnan(out["damping"][0]) and not out["unstable"][0]
+    assert out["omega"][1] == pytest.approx(np.hypot(np.log(0.9), 0.3) / dt, rel=1e-12)
