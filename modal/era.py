@@ -393,6 +393,10 @@ def eigen_poles(phi, output, states):
         Their modal amplitudes over the Hankel columns, the kept rows of
         ``psi^{-1} D^{1/2} Q^T`` (for the modal amplitude coherence).
     """
+    phi, output, states = (finite_array(name, a, ndim=(2,)) for name, a in
+                           (("phi", phi), ("output", output), ("states", states)))
+    if phi.shape[0] != phi.shape[1]:
+        raise ValueError(f"phi must be a square matrix, got shape {phi.shape}")
     return complex_poles(*real_eigensystem(phi, output, states))[:4]
 
 
@@ -409,7 +413,9 @@ def real_eigensystem(phi, output, states):
     Parameters
     ----------
     phi, output, states
-        As :func:`eigen_poles`.
+        As :func:`eigen_poles`, which checks them (here they are taken as
+        they come: :func:`modal.stabilisation` calls this once per order on
+        a realisation of checked data).
 
     Returns
     -------

@@ -394,3 +394,16 @@ def test_real_pole_test_is_relative_to_the_modulus():
     np.testing.assert_allclose(z, w[kept], rtol=1e-14)
     np.testing.assert_allclose(shapes, output @ psi[:, kept], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(histories, np.linalg.inv(psi)[kept] @ states, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["phi", "output", "states"])
+def test_eigen_poles_refuse_nan_naming_the_argument(name):
+    """NaN in the state matrix, the output matrix or the states: a ValueError
+    naming it, not NaN poles; a non-square state matrix is refused too."""
+    args = {"phi": np.diag([0.5, 0.9]), "output": np.ones((1, 2)), "states": np.ones((2, 5))}
+    args[name] = args[name].copy()
+    args[name][0, 0] = np.nan
+    with pytest.raises(ValueError, match=f"^{name} contains NaN or inf"):
+        era_module.eigen_poles(**args)
+    with pytest.raises(ValueError, match=r"^phi must be a square matrix, got shape \(2, 3\)"):
+        era_module.eigen_poles(np.ones((2, 3)), np.ones((1, 3)), np.ones((3, 5)))
