@@ -108,6 +108,7 @@ def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
         ``|q . conj(q_ideal)| / (|q| |q_ideal|)`` with ``q_ideal[j m + k] =
         b_k z^j``, ``b_k`` the identified initial amplitudes (block column 0).
     """
+    histories = np.asarray(histories, dtype=complex)  # any real or complex input, as complex128
     n_modes, width = histories.shape
     s = width // n_sets
     blocks = histories.reshape(n_modes, s, n_sets)  # [i, j, k]: mode i, block column j, data set k

@@ -494,3 +494,20 @@ def test_pole_indicators_of_a_pole_at_the_origin_are_silent():
                               np.ones((2, 8), complex), dt, 1)
     assert out["omega"][0] == np.inf and np.isnan(out["damping"][0]) and not out["unstable"][0]
     assert out["omega"][1] == pytest.approx(np.hypot(np.log(0.9), 0.3) / dt, rel=1e-12)
+
+
+@pytest.mark.parametrize("dtype", [np.float32, np.float64, np.int64, np.complex64])
+def test_modal_amplitude_coherence_of_any_numeric_histories(dtype):
+    """Histories given as float32, float64, integers or complex64 (the function
+    is public) give the coherence of the same values as complex128, not of
+    their bytes reinterpreted."""
+    from modal.indicators import modal_amplitude_coherence
+
+    rng = np.random.default_rng(8)
+    values = np.round(rng.standard_normal((3, 20)) * 100)  # exact in every dtype
+    if np.issubdtype(dtype, np.complexfloating):
+        values = values + 1j * np.round(rng.standard_normal((3, 20)) * 100)
+    z = np.array([0.9, 0.5 + 0.5j, -0.3])
+    expected = modal_amplitude_coherence(values.astype(complex), z, 2)
+    np.testing.assert_allclose(modal_amplitude_coherence(values.astype(dtype), z, 2), expected, rtol=1e-14)
+    assert np.all((expected > 0.05) & (expected < 0.95))  # neither degenerate case
