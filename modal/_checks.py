@@ -65,6 +65,14 @@ def finite_array(name: str, value, ndim: tuple[int, ...]) -> np.ndarray:
     return a
 
 
+def square_matrix(name: str, value) -> np.ndarray:
+    """Return ``value`` as a finite square float matrix (:func:`finite_array`)."""
+    a = finite_array(name, value, ndim=(2,))
+    if a.shape[0] != a.shape[1]:
+        raise ValueError(f"{name} must be a square matrix, got shape {a.shape}")
+    return a
+
+
 def records(name: str, y) -> np.ndarray:
     """Return measurement data as ``(n_sets, n_samples, n_channels)``.
 

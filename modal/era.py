@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import finite_array, positive_float, positive_int, records, unit_scale
+from ._checks import finite_array, positive_float, positive_int, records, square_matrix, unit_scale
 from .hankel import hankel
 from .indicators import modal_amplitude_coherence, modal_phase_collinearity
 from .result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
@@ -263,10 +263,8 @@ def leading_eigenpairs(sym, k):
     from scipy.linalg import eigh
     from scipy.linalg.lapack import dormqr, dstein, dsterf, dsytrd, dsytrd_lwork
 
-    sym = finite_array("sym", sym, ndim=(2,))
+    sym = square_matrix("sym", sym)
     n = sym.shape[0]
-    if sym.shape != (n, n):
-        raise ValueError(f"sym must be a square matrix, got shape {sym.shape}")
     k = positive_int("k", k)
     if k > n:
         raise ValueError(f"k = {k} exceeds the order {n} of sym")
@@ -393,10 +391,8 @@ def eigen_poles(phi, output, states):
         Their modal amplitudes over the Hankel columns, the kept rows of
         ``psi^{-1} D^{1/2} Q^T`` (for the modal amplitude coherence).
     """
-    phi, output, states = (finite_array(name, a, ndim=(2,)) for name, a in
-                           (("phi", phi), ("output", output), ("states", states)))
-    if phi.shape[0] != phi.shape[1]:
-        raise ValueError(f"phi must be a square matrix, got shape {phi.shape}")
+    phi = square_matrix("phi", phi)
+    output, states = finite_array("output", output, ndim=(2,)), finite_array("states", states, ndim=(2,))
     return complex_poles(*real_eigensystem(phi, output, states))[:4]
 
 
