@@ -225,12 +225,12 @@ def _per_order_reference(data, dt, max_order, rows, criteria):
             with np.errstate(invalid="ignore"):
                 flags = [np.abs(cur["freq_hz"] - f0[near]) <= criteria.freq_rtol * cur["freq_hz"],
                          np.abs(res.damping - zeta0[near]) <= criteria.damping_rtol * np.abs(zeta0[near]),
-                         modal.mac(res.shapes, shapes0)[np.arange(n), near] >= criteria.mac_min]
+                         modal.mac(res.complex_shapes, shapes0)[np.arange(n), near] >= criteria.mac_min]
         cur.update(stable_freq=flags[0], stable_damping=flags[1], stable_shape=flags[2],
                    stable=flags[0] & flags[1] & flags[2])
         rows_out.append(cur)
-        shapes_out.append(res.shapes.T)
-        previous = (res.freq_hz, res.damping, res.shapes)
+        shapes_out.append(res.complex_shapes.T)
+        previous = (res.freq_hz, res.damping, res.complex_shapes)
     table = {k: np.concatenate([r[k] for r in rows_out]) for k in rows_out[0]}
     return table, np.concatenate(shapes_out)
 

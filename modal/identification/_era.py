@@ -7,9 +7,9 @@ import numpy as np
 from .._checks import finite_array, positive_float, positive_int, records, square_matrix, unit_scale
 from ._era_kernels import complex_poles, decompose, decompose_method, real_eigensystem
 from ._hankel import hankel
-from ._indicators import modal_amplitude_coherence, modal_phase_collinearity
-from ._result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
-                     warn_not_free_response)
+from ._indicators import mean_phase_deviation, modal_amplitude_coherence, modal_phase_collinearity
+from ._result import (UNSTABLE_TOL, ModalResult, near_limit, normalise_complex_shapes, normalise_shapes,
+                      short_window, sort_modes, warn_flags, warn_not_free_response)
 
 def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
     """Identify modes with the ERA.
@@ -51,8 +51,8 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
         How the ``2 n`` leading singular triplets of ``H(0)`` are computed (see
         :func:`decompose`): ``"full"`` thin SVD, ``"gram"`` the Gram matrix's
         eigenvectors refined by Rayleigh-Ritz and checked (falling back to the
-        thin SVD when the check fails), ``"auto"`` the Gram route for Hankel
-        matrices whose shorter side is at least :data:`GRAM_MIN_SIZE`.
+        thin SVD when the check fails), ``"auto"`` the Gram route where it
+        costs less than half the thin SVD (:func:`modal.identification._era_kernels.gram_pays`).
 
     Returns
     -------
@@ -101,6 +101,8 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
     """
     z, real, complex_shapes, histories = eigen_poles(*realisation(p, d, qt, h1, n_channels))
     poles = pole_indicators(z, real, complex_shapes, histories, dt, n_sets)
+    poles.pop("mpd")
+    poles["complex_shapes"] = poles["complex_shapes"].T  # one row per pole, sorted with the rest
     omega, shapes, cols_ = sort_modes(poles.pop("omega"), poles.pop("shapes"), **poles)
     return ModalResult(
         omega=omega,
@@ -115,6 +117,7 @@ def realise(p, d, qt, h1, n_channels, n_sets, dt, singular_values=None, window=n
         mpc=cols_["mpc"],
         singular_values=d if singular_values is None else singular_values,
         eigenvalues=cols_["z"],
+        complex_shapes=cols_["complex_shapes"].T,
     )
 
 
@@ -167,22 +170,35 @@ def eigen_poles(phi, output, states):
     return complex_poles(*real_eigensystem(phi, output, states))[:4]
 
 
-def pole_indicators(z, real, complex_shapes, histories, dt, n_sets) -> dict:
+def pole_indicators(z, real, complex_shapes, histories, dt, n_sets, derivatives=None) -> dict:
     """Frequencies, damping, flags and indicators of poles from
     :func:`eigen_poles`, vectorised over any number of poles (one
     realisation's or many orders' concatenated).
+
+    ``derivatives`` (one integer per channel: 0 displacement, 1 velocity,
+    2 acceleration) brings channels of different quantities to one shape:
+    a mode ``exp(s t)`` measured as the ``k``-th derivative carries ``s^k``,
+    so each channel's entry is divided by ``s^(k - k_0)`` with ``k_0`` the
+    first channel's derivative (all channels in its quantity). Without it
+    every channel is taken to measure the same quantity.
 
     ``s = ln z / dt`` (Eq. 44, j = 0), ``omega = |s|``, damping ``-Re s / |s|``
     (NaN for real poles), ``unstable`` where ``|z| > 1 +`` :data:`UNSTABLE_TOL`,
     ``aliased`` damped frequencies near ``pi / dt``, modal amplitude coherence
     (0 where it overflows) and phase collinearity, and the normalised real
-    ``shapes`` (n_channels, n). Returns a dict with these keys, ``z`` and
-    ``real_pole``, in the input order.
+    ``shapes`` (n_channels, n), the normalised ``complex_shapes`` and their
+    mean phase deviation ``mpd`` (degrees). Returns a dict with these keys,
+    ``z`` and ``real_pole``, in the input order.
     """
     with np.errstate(divide="ignore", invalid="ignore"):  # z = 0 (a singular Phi): log z = -inf, omega = inf
         s = np.log(z.astype(complex)) / dt  # Eq. (44), j = 0
         omega = np.abs(s)
         damping = np.where(real, np.nan, -s.real / np.where(omega > 0, omega, 1))
+        if derivatives is not None:
+            relative = np.asarray(derivatives, dtype=int) - int(derivatives[0])
+            if np.any(relative):
+                factor = s[None, :] ** relative[:, None]
+                complex_shapes = complex_shapes / np.where(np.isfinite(factor) & (factor != 0), factor, 1)
     with np.errstate(over="ignore", invalid="ignore"):
         mamc = np.nan_to_num(modal_amplitude_coherence(histories, z, n_sets), nan=0.0)
     return {
@@ -194,5 +210,7 @@ def pole_indicators(z, real, complex_shapes, histories, dt, n_sets) -> dict:
         "aliased": near_limit(np.abs(s.imag), dt),
         "mamc": mamc,
         "mpc": modal_phase_collinearity(complex_shapes),
+        "complex_shapes": normalise_complex_shapes(complex_shapes),
+        "mpd": mean_phase_deviation(complex_shapes),
         "z": z,
     }

@@ -18,10 +18,11 @@ REAL_POLE_TOL = 1e-10
 #: ``decompose`` methods: ``"full"`` is the thin SVD, ``"gram"`` the Gram matrix's
 #: eigenvectors refined by Rayleigh-Ritz, ``"auto"`` the latter where it pays.
 DECOMPOSE_METHODS = ("auto", "full", "gram")
-#: ``"auto"`` takes the Gram path when the smaller side of ``H(0)`` is at least
-#: this long and at least 4 x the order; below, the thin SVD costs a few ms anyway
-#: (and the thesis's own Hankel matrices, 144 x 100 to 192 x 150, stay on it).
-GRAM_MIN_SIZE = 200
+#: ``"auto"`` considers the Gram path only when the thin SVD would take at least
+#: this many floating-point operations (about 20-50 ms here); below, the thin SVD
+#: costs a few ms anyway (and the thesis's own Hankel matrices, 144 x 100 to
+#: 192 x 150, stay on it).
+GRAM_MIN_FLOPS = 1e8
 #: Rayleigh-Ritz steps tried before falling back to the thin SVD.
 GRAM_MAX_STEPS = 3
 #: A triplet is accepted when its residual ``||H(0)^T p - sigma q||`` is below the
@@ -61,9 +62,9 @@ def decompose(h0, order, method="auto", block=None):
         Number of triplets (the model order ``2 n``).
     method : {"auto", "full", "gram"}
         ``"full"``: thin SVD by LAPACK gesdd. ``"gram"``: as above (falling back
-        to ``"full"`` when the check fails). ``"auto"``: ``"gram"`` when the
-        shorter side of ``H(0)`` is at least :data:`GRAM_MIN_SIZE` and
-        ``4 order``, else ``"full"``.
+        to ``"full"`` when the check fails). ``"auto"``: ``"gram"`` when it costs
+        less than half the thin SVD on this shape and order
+        (:func:`gram_pays`), else ``"full"``.
     block : tuple (l, m), optional
         Block shape of ``H(0)`` (sensors, data sets) when it is a block Hankel
         matrix of Eq. (34), so the Gram matrix is built from its first block row
@@ -90,7 +91,7 @@ def decompose(h0, order, method="auto", block=None):
         raise ValueError(f"order = {order} exceeds the smaller dimension of h0 {h0.shape}")
     if block is not None:
         _check_block(h0, block)
-    use_gram = method == "gram" or (method == "auto" and n_short >= max(GRAM_MIN_SIZE, 4 * order))
+    use_gram = method == "gram" or (method == "auto" and gram_pays(h0.shape, order))
     if use_gram and order < n_short:
         triplets = _gram_triplets(h0, order, block)
         if triplets is not None:
@@ -99,6 +100,24 @@ def decompose(h0, order, method="auto", block=None):
     # LAPACK as its transpose without a copy, which scipy.linalg.svd does not.
     u, sv, vt = np.linalg.svd(h0, full_matrices=False)
     return u[:, :order], sv[:order], vt[:order], sv
+
+
+def gram_pays(shape, order) -> bool:
+    """Whether the Gram route is worth it for ``order`` triplets of a matrix of
+    ``shape``, by counting floating-point operations of both routes.
+
+    With ``a <= b`` the sides: the thin SVD (gesdd, vectors included) takes
+    about ``6 a^2 b + 10 a^3``; the Gram route about ``a^2 b`` (the Gram
+    matrix) ``+ 2 a^3`` (its eigenproblem) ``+ 4 a b order + 2 b order^2``
+    (one Rayleigh-Ritz step). The Gram route is taken when the SVD would
+    cost at least :data:`GRAM_MIN_FLOPS` and the Gram route less than half
+    of it, so a wide, short Hankel matrix (160 x 1e6) takes it as a square
+    one does, and small ones stay on the SVD.
+    """
+    a, b = sorted(int(n) for n in shape)
+    svd = 6.0 * a * a * b + 10.0 * a**3
+    gram = 1.0 * a * a * b + 2.0 * a**3 + 4.0 * a * b * order + 2.0 * b * order**2
+    return order < a and svd >= GRAM_MIN_FLOPS and gram < svd / 2
 
 
 def decompose_method(name, value):

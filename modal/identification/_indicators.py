@@ -88,6 +88,31 @@ def modal_phase_collinearity(shapes) -> np.ndarray:
     return np.divide(gap, trace, out=np.zeros_like(trace), where=trace > 0) ** 2
 
 
+def mean_phase_deviation(shapes) -> np.ndarray:
+    """Mean phase deviation (degrees) of complex mode shapes from their best
+    straight line in the complex plane (Reynders, Houbrechts and De Roeck
+    2012): 0 for a normal mode, growing with its complexity.
+
+    The line is the leading right singular vector ``(v12, v22)`` of the
+    ``n_channels x 2`` matrix ``[Re phi, Im phi]``; each entry's deviation
+    ``arccos(|Re phi_c v22 - Im phi_c v12| / (|phi_c| sqrt(v12^2 + v22^2)))``
+    is averaged with weights ``|phi_c|``.
+    """
+    shapes = np.atleast_2d(np.asarray(shapes, dtype=complex))
+    out = np.zeros(shapes.shape[1])
+    for k in range(shapes.shape[1]):
+        phi = shapes[:, k]
+        weights = np.abs(phi)
+        if not np.any(weights > 0):
+            continue
+        _, _, vt = np.linalg.svd(np.column_stack([phi.real, phi.imag]))  # vt is 2 x 2, also for one channel
+        v12, v22 = vt[1, 0], vt[1, 1]  # the normal to the best line, as (re, im)
+        along = np.abs(phi.real * v22 - phi.imag * v12) / np.hypot(v12, v22)
+        cosines = np.clip(along / np.where(weights > 0, weights, 1), 0, 1)
+        out[k] = np.degrees(np.sum(weights * np.arccos(cosines)) / np.sum(weights))
+    return out
+
+
 def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
     """Modal amplitude coherence (Juang and Pappa) of identified modal amplitude
     histories against ideal ones.

@@ -73,6 +73,11 @@ class ModalResult:
         for TCM/CERA).
     method : str
         ``"era"``, ``"tcm"`` or ``"cera"``.
+    complex_shapes : ndarray, shape (n_channels, n_modes)
+        The shapes as identified, complex, unit norm with the largest entry
+        real and positive (ERA: the phases of a complex mode, which
+        ``shapes`` rotates onto the real axis); the real ``shapes`` where the
+        method gives no phase (TCM, CERA).
     """
 
     omega: np.ndarray
@@ -87,9 +92,12 @@ class ModalResult:
     mpc: np.ndarray | None = None
     singular_values: np.ndarray = field(default_factory=lambda: np.empty(0))
     eigenvalues: np.ndarray = field(default_factory=lambda: np.empty(0))
+    complex_shapes: np.ndarray | None = None
 
     def __post_init__(self):
         n = len(self.omega)
+        if self.complex_shapes is None:
+            object.__setattr__(self, "complex_shapes", np.asarray(self.shapes, dtype=complex))
         for name in ("damping", "mamc", "mpc"):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, _nan(n))
@@ -143,6 +151,18 @@ def normalise_shapes(shapes: np.ndarray) -> np.ndarray:
     k = np.argmax(np.abs(shapes), axis=0)
     signs = np.sign(shapes[k, np.arange(shapes.shape[1])])
     return shapes * np.where(signs == 0, 1, signs)
+
+
+def normalise_complex_shapes(shapes: np.ndarray) -> np.ndarray:
+    """Scale each complex column to unit Euclidean norm and rotate it so its
+    largest-magnitude entry is real and positive; the phases between the
+    entries (the mode's complexity) are kept."""
+    shapes = np.atleast_2d(np.asarray(shapes, dtype=complex))
+    k = np.argmax(np.abs(shapes), axis=0)
+    pivot = shapes[k, np.arange(shapes.shape[1])]
+    scale = np.abs(pivot) * np.linalg.norm(shapes, axis=0)
+    factor = np.divide(np.conj(pivot), scale, out=np.ones_like(pivot), where=scale > 0)
+    return shapes * factor
 
 
 def sort_modes(omega, shapes, **columns):

@@ -25,11 +25,17 @@ from ._era import pole_indicators, realisation
 from ._era_kernels import complex_poles, decompose, real_eigensystem
 from ._hankel import hankel
 from ._indicators import mac, paired_mac
-from ._result import ModalWarning
+from ._result import ModalWarning, normalise_shapes
 
 POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                 "stable_freq", "stable_damping", "stable_shape", "stable"]
-MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"]
+MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc", "mpd",
+                "close", "close_mac"]
+CANDIDATE_COLUMNS = ["freq_hz", "damping", "n_poles", "min_poles", "mpc", "mamc", "mpd"]
+QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
+#: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
+#: long free decay or impulse response is not copied whole into a Hankel matrix.
+HANKEL_MAX_BYTES = 512 * 2**20
 
 
 @dataclass(frozen=True)
@@ -47,29 +53,43 @@ class StabilityCriteria:
     mac_min : float
         ... and stable in shape when the MAC with that pole is at least this.
     max_damping : float
-        Physical poles have ``0 < damping < max_damping``.
+        Physical poles have ``0 < damping < max_damping`` (a growing
+        component, ``damping <= 0``, is never a mode).
     mpc_min, mamc_min : float
-        Minimum modal phase collinearity and modal amplitude coherence.
+        Minimum modal phase collinearity and modal amplitude coherence. The
+        default ``mpc_min = 0`` lets complex modes (non-proportional damping,
+        MPC well below 1) through: their complexity is measured (``mpc``,
+        ``mpd``) and reported, not held against them.
     cluster_distance : float
         Poles join one mode when the distance ``|f_i - f_j| / max(f_i, f_j) +
-        1 - MAC_ij`` between the groups (average linkage) is below this.
+        1 - MAC_ij`` between the groups (average linkage) is below this; two
+        poles of the same order never join one mode.
+    merge_distance : float
+        Clusters that never share an order (one mode split in two) join when
+        their average distance is below this.
     min_poles : int, optional
-        A cluster with fewer poles is not a mode; default 40 % of the orders
-        computed, at least 3 (a single channel makes every MAC 1, so spurious
-        poles near a mode are told apart only by how rarely they recur).
+        A cluster with fewer poles is not a mode but a candidate; default
+        40 % of the orders computed, at least 3 (a single channel makes every
+        MAC 1, so spurious poles near a mode are told apart only by how
+        rarely they recur).
+    close_rtol : float
+        Two modes within this relative frequency distance are flagged
+        ``close`` (with the MAC between their shapes).
     """
 
     freq_rtol: float = 0.01
     damping_rtol: float = 0.05
     mac_min: float = 0.98
-    max_damping: float = 0.1
-    mpc_min: float = 0.7
+    max_damping: float = 0.3
+    mpc_min: float = 0.0
     mamc_min: float = 0.5
     cluster_distance: float = 0.02
+    merge_distance: float = 0.04
     min_poles: int | None = None
+    close_rtol: float = 0.02
 
     def __post_init__(self):
-        for name in ("freq_rtol", "damping_rtol", "max_damping", "cluster_distance"):
+        for name in ("freq_rtol", "damping_rtol", "max_damping", "cluster_distance", "merge_distance", "close_rtol"):
             positive_float(name, getattr(self, name))
         for name in ("mac_min", "mpc_min", "mamc_min"):
             value = nonnegative_float(name, getattr(self, name))
@@ -87,16 +107,29 @@ class Stabilisation:
     ----------
     modes : pandas.DataFrame
         One row per selected mode, by frequency: ``mode``, ``freq_hz`` and
-        ``freq_std_hz``, ``damping`` and ``damping_std`` (ratio), ``n_poles``
-        (poles clustered into it), mean ``mpc`` and ``mamc``.
+        ``freq_std_hz``, ``damping`` and ``damping_std`` (ratio; the spreads
+        of the mode's poles over the model orders), ``n_poles`` (poles
+        clustered into it, at most one per order), mean ``mpc``, ``mamc`` and
+        ``mpd`` (mean phase deviation, degrees), ``close`` (another mode lies
+        within ``criteria.close_rtol`` in frequency) and ``close_mac`` (MAC
+        with the nearest mode in frequency; NaN for a single mode).
     shapes : ndarray, shape (n_channels, n_modes)
-        Representative shape of each mode: that of its medoid pole.
+        Representative shape of each mode, real and normalised: that of its
+        medoid pole rotated onto the real axis.
+    complex_shapes : ndarray, shape (n_channels, n_modes)
+        The same shapes as identified, complex (unit norm, largest entry real
+        and positive): the phases of a complex mode are kept.
+    candidates : pandas.DataFrame
+        Clusters of stable physical poles that recur too rarely to be modes
+        (fewer than ``min_poles`` poles, at least half of them): ``freq_hz``,
+        ``damping``, ``n_poles``, ``min_poles``, ``mpc``, ``mamc``, ``mpd``.
     poles : pandas.DataFrame
         One row per pole of every order: ``order``, ``freq_hz``, ``damping``,
         ``mpc``, ``mamc``, ``real_pole``, the stability flags ``stable_freq``,
         ``stable_damping``, ``stable_shape``, ``stable`` (all three),
         ``physical`` (the quality criteria) and ``mode`` (0 when unselected).
     pole_shapes : ndarray, shape (n_poles, n_channels)
+        Complex normalised shape of every pole.
     singular_values : ndarray
         Singular values of ``H(0)``.
     spectrum_hz, spectrum : ndarray
@@ -112,6 +145,8 @@ class Stabilisation:
     spectrum_hz: np.ndarray
     spectrum: np.ndarray
     criteria: StabilityCriteria = field(default_factory=StabilityCriteria)
+    complex_shapes: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=complex))
+    candidates: pd.DataFrame = field(default_factory=lambda: _empty(CANDIDATE_COLUMNS))
 
     def plot(self, fmax=None, title=None, ax=None):
         """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""
@@ -130,6 +165,7 @@ def stabilisation(
     fmax=None,
     criteria: StabilityCriteria | None = None,
     progress: Callable[[int, int], None] | None = None,
+    quantities=None,
 ) -> Stabilisation:
     """ERA at every even model order ``2 ... max_order`` from one SVD,
     stability between orders, and modes selected by clustering.
@@ -148,7 +184,8 @@ def stabilisation(
         Block rows ``r`` of ``H(0)`` (Eq. 34). ``r dt`` should span a few
         periods of the lowest mode of interest.
     cols : int, optional
-        Block columns ``s``; by default every sample the data allow.
+        Block columns ``s``; by default every sample the data allow, at most
+        as many as keep ``H(0)`` within :data:`HANKEL_MAX_BYTES`.
     start : int
         First sample (Eq. 34's ``k - 1``), e.g. :func:`modal.decay_start`.
     fmax : float, optional
@@ -157,6 +194,10 @@ def stabilisation(
     criteria : StabilityCriteria, optional
     progress : callable, optional
         Called as ``progress(done, total)`` after each order.
+    quantities : sequence of str, optional
+        What each channel measures: ``"displacement"``, ``"velocity"`` or
+        ``"acceleration"``; the shapes are then in the first channel's
+        quantity (:func:`modal.era.pole_indicators`). Default: all the same.
 
     Returns
     -------
@@ -172,10 +213,12 @@ def stabilisation(
         raise ValueError(f"criteria must be a StabilityCriteria, got {type(criteria).__name__}")
     fmax = None if fmax is None else positive_float("fmax", fmax)
     m, n_samples, l = y.shape
+    derivatives = _derivatives(quantities, l)
     if cols is None:
         cols = n_samples - start - rows
         if cols < 1:
             raise ValueError(f"rows = {rows} from start = {start} leaves no column of the {n_samples}-sample data")
+        cols = min(cols, max(1, HANKEL_MAX_BYTES // (8 * (rows + 1) * l * m)))
     cols = positive_int("cols", cols)
     if max_order % 2:
         raise ValueError(f"max_order must be even (complex-conjugate pole pairs), got {max_order}")
@@ -192,7 +235,7 @@ def stabilisation(
         warnings.warn(f"H(0) has numerical rank {rank}: orders above it are not computed", ModalWarning, stacklevel=2)
         max_order = rank - rank % 2
     orders = list(range(2, max_order + 1, 2))
-    table, pole_shapes = _poles(p, d, qt, h1, orders, l, m, dt, progress)
+    table, pole_shapes = _poles(p, d, qt, h1, orders, l, m, dt, progress, derivatives)
     table.update(_stability(table, pole_shapes, criteria))
     with np.errstate(invalid="ignore"):
         table["physical"] = (
@@ -204,16 +247,20 @@ def stabilisation(
             & (table["freq_hz"] < (0.5 / dt if fmax is None else fmax))
         )
     min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
-    table["mode"], modes, shapes = _select_modes(table, pole_shapes, criteria.cluster_distance, min_poles)
+    table["mode"], modes, complex_shapes, candidates = _select_modes(table, pole_shapes, criteria, min_poles)
     poles = pd.DataFrame({name: table[name] for name in POLE_COLUMNS + ["physical", "mode"]})
     if modes.empty:
-        warnings.warn("no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria",
+        n_stable = int(np.sum(table["stable"]))
+        n_physical = int(np.sum(table["stable"] & table["physical"]))
+        warnings.warn(f"no mode selected: {n_stable} stable poles, {n_physical} of them physical, "
+                      f"{len(candidates)} candidate clusters below {min_poles} poles (see the result's candidates)",
                       ModalWarning, stacklevel=2)
     spectrum_hz, spectrum = _mean_spectrum(y[:, start:], dt)
-    return Stabilisation(modes, shapes, poles, pole_shapes, sv, spectrum_hz, spectrum, criteria)
+    return Stabilisation(modes, normalise_shapes(complex_shapes), poles, pole_shapes, sv, spectrum_hz, spectrum,
+                         criteria, complex_shapes, candidates)
 
 
-def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
+def _poles(p, d, qt, h1, orders, l, m, dt, progress=None, derivatives=None):
     """Poles of every order in ``orders``, each realised from the leading
     ``order`` triplets of ``P D Q^T`` (Sec. 4.4), as :func:`modal.era.realise`
     would give them order by order.
@@ -234,11 +281,12 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
         ``order``, ``freq_hz``, ``damping``, ``mpc``, ``mamc``, ``real_pole``,
         one entry per pole, by order and then by frequency.
     pole_shapes : ndarray, shape (n_poles, l)
+        Complex, normalised.
     """
     if not orders:
         empty = np.empty(0)
         return ({"order": np.empty(0, dtype=int), "freq_hz": empty, "damping": empty, "mpc": empty, "mamc": empty,
-                 "real_pole": np.empty(0, dtype=bool)}, np.empty((0, l)))
+                 "mpd": empty, "real_pole": np.empty(0, dtype=bool)}, np.empty((0, l), dtype=complex))
     phi, output, states = realisation(p[:, :orders[-1]], d[:orders[-1]], qt[:orders[-1]], h1, l)  # Eqs. (41), (43)
     # every order's real eigensystem side by side, then one pass over all poles;
     # LAPACK reads Fortran order, so each block is then copied without a transpose
@@ -256,7 +304,7 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
             progress(done, len(orders))
     z, real, complex_shapes, histories, kept = complex_poles(wr, wi, real_shapes, real_histories)
     order = np.repeat(orders, orders)[kept]
-    poles = pole_indicators(z, real, complex_shapes, histories, dt, m)
+    poles = pole_indicators(z, real, complex_shapes, histories, dt, m, derivatives)
     by = np.lexsort((poles["omega"], order))  # stable: ties keep realise()'s order
     table = {
         "order": order[by],
@@ -264,9 +312,10 @@ def _poles(p, d, qt, h1, orders, l, m, dt, progress=None):
         "damping": poles["damping"][by],
         "mpc": poles["mpc"][by],
         "mamc": poles["mamc"][by],
+        "mpd": poles["mpd"][by],
         "real_pole": poles["real_pole"][by],
     }
-    return table, poles["shapes"][:, by].T
+    return table, poles["complex_shapes"][:, by].T
 
 
 def _stability(table, pole_shapes, criteria) -> dict:
@@ -293,48 +342,120 @@ def _stability(table, pole_shapes, criteria) -> dict:
     return {"stable_freq": stable_freq, "stable_damping": stable_damping, "stable_shape": stable_shape, "stable": stable}
 
 
-def _select_modes(poles: dict, pole_shapes: np.ndarray, cluster_distance: float, min_poles: int):
-    """Cluster the stable physical poles (average linkage, scipy.cluster) by
-    frequency and shape into modes; ``poles`` maps the pole columns to arrays."""
+def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int):
+    """Cluster the stable physical poles by frequency and shape into modes.
+
+    Average linkage (scipy.cluster) on ``|f_i - f_j| / max(f_i, f_j) + 1 -
+    MAC_ij``, cut at ``criteria.cluster_distance``, with two poles of the same
+    order kept apart (their distance is raised above what any average can
+    absorb): two close modes present at the same orders stay two. Clusters
+    that never share an order and lie within ``criteria.merge_distance`` of
+    each other are then one mode split in two, and join. Clusters of at
+    least ``min_poles`` poles are modes, numbered by frequency; those of at
+    least half as many are candidates.
+
+    Returns the pole labels (mode number, 0 for none), the modes table, the
+    modes' complex shapes (medoids) and the candidates table.
+    """
     from scipy.cluster.hierarchy import fcluster, linkage
     from scipy.spatial.distance import squareform
 
+    l = pole_shapes.shape[1]
     labels = np.zeros(len(poles["order"]), dtype=int)
-    candidates = np.flatnonzero(poles["stable"] & poles["physical"])
-    if len(candidates) < max(2, min_poles):
-        return labels, _no_modes(), np.empty((pole_shapes.shape[1], 0))
-    f = poles["freq_hz"][candidates]
-    shapes = pole_shapes[candidates].T
+    nothing = labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), _empty(CANDIDATE_COLUMNS)
+    chosen = np.flatnonzero(poles["stable"] & poles["physical"])
+    if len(chosen) < 2:
+        return nothing
+    f, order = poles["freq_hz"][chosen], poles["order"][chosen]
+    shapes = pole_shapes[chosen].T
     distance = np.abs(f[:, None] - f[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
-    clusters = fcluster(linkage(squareform(distance, checks=False), method="average"), cluster_distance, "distance")
-    members = np.flatnonzero(np.bincount(clusters)[clusters] >= min_poles)  # of the clusters that are modes
-    if not len(members):
-        return labels, _no_modes(), np.empty((pole_shapes.shape[1], 0))
-    _, cluster = np.unique(clusters[members], return_inverse=True)
-    group = {name: poles[name][candidates[members]] for name in ("freq_hz", "damping", "mpc", "mamc")}
-    # modes numbered by mean frequency
-    mode = np.argsort(np.argsort(np.bincount(cluster, group["freq_hz"]) / np.bincount(cluster), kind="stable"))[cluster]
-    labels[candidates[members]] = mode + 1
-    count = np.bincount(mode)
-    mean = {name: np.bincount(mode, values) / count for name, values in group.items()}
+    apart = (order[:, None] == order[None, :]) & ~np.eye(len(chosen), dtype=bool)
+    # one same-order pair in a merged group lifts its average above the cut
+    linked = np.where(apart, 1.0 + criteria.cluster_distance * len(chosen) ** 2, distance)
+    clusters = fcluster(linkage(squareform(linked, checks=False), method="average"), criteria.cluster_distance,
+                        "distance")
+    clusters = _join_split_clusters(clusters, order, distance, criteria.merge_distance)
+    _, clusters = np.unique(clusters, return_inverse=True)
+    count = np.bincount(clusters)
+    groups = {name: poles[name][chosen] for name in ("freq_hz", "damping", "mpc", "mamc", "mpd")}
+    mean = {name: np.bincount(clusters, values) / count for name, values in groups.items()}
+    # each cluster's medoid: the member with the least distance summed over its cluster (the first on ties)
+    spread = np.where(clusters[:, None] == clusters[None, :], distance, 0).sum(axis=1)
+    medoids = np.lexsort((spread, clusters))[np.cumsum(count) - count]
+    is_mode = count >= min_poles
+    is_candidate = ~is_mode & (2 * count >= min_poles) & (count >= 2)
+    candidates = pd.DataFrame({"freq_hz": mean["freq_hz"][is_candidate], "damping": mean["damping"][is_candidate],
+                               "n_poles": count[is_candidate], "min_poles": min_poles,
+                               "mpc": mean["mpc"][is_candidate], "mamc": mean["mamc"][is_candidate],
+                               "mpd": mean["mpd"][is_candidate]}).sort_values("freq_hz", ignore_index=True)
+    if not np.any(is_mode):
+        return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), candidates
+    kept = np.flatnonzero(is_mode)[np.argsort(mean["freq_hz"][is_mode], kind="stable")]  # modes by frequency
+    number = np.zeros(len(count), dtype=int)
+    number[kept] = np.arange(1, len(kept) + 1)
+    labels[chosen] = number[clusters]
     with np.errstate(invalid="ignore", divide="ignore"):  # a one-pole mode (min_poles = 1) has no std
-        std = {name: np.sqrt(np.bincount(mode, (group[name] - mean[name][mode]) ** 2) / (count - 1))
+        std = {name: np.sqrt(np.bincount(clusters, (groups[name] - mean[name][clusters]) ** 2) / (count - 1))
                for name in ("freq_hz", "damping")}
+    mode_shapes = shapes[:, medoids[kept]]
+    close, close_mac = _close_modes(mean["freq_hz"][kept], mode_shapes, criteria.close_rtol)
     modes = pd.DataFrame({
-        "mode": np.arange(1, len(count) + 1), "freq_hz": mean["freq_hz"], "freq_std_hz": std["freq_hz"],
-        "damping": mean["damping"], "damping_std": std["damping"], "n_poles": count, "mpc": mean["mpc"],
-        "mamc": mean["mamc"],
+        "mode": np.arange(1, len(kept) + 1), "freq_hz": mean["freq_hz"][kept], "freq_std_hz": std["freq_hz"][kept],
+        "damping": mean["damping"][kept], "damping_std": std["damping"][kept], "n_poles": count[kept],
+        "mpc": mean["mpc"][kept], "mamc": mean["mamc"][kept], "mpd": mean["mpd"][kept], "close": close,
+        "close_mac": close_mac,
     })
-    # each mode's medoid: the member with the least distance summed over its mode (the first on ties)
-    spread = np.where(mode[:, None] == mode[None, :], distance[np.ix_(members, members)], 0).sum(axis=1)
-    medoids = members[np.lexsort((spread, mode))[np.cumsum(count) - count]]
-    return labels, modes, shapes[:, medoids]
+    return labels, modes, mode_shapes, candidates
 
 
-def _no_modes() -> pd.DataFrame:
-    return pd.DataFrame({c: pd.Series(dtype=float) for c in MODE_COLUMNS})
+def _join_split_clusters(clusters, order, distance, merge_distance):
+    """Join clusters that never share an order and whose average distance is
+    below ``merge_distance``, nearest pair first, until none is left."""
+    clusters = clusters.copy()
+    while True:
+        ids = np.unique(clusters)
+        best, pair = merge_distance, None
+        for i, a in enumerate(ids):
+            in_a = clusters == a
+            for b in ids[i + 1:]:
+                in_b = clusters == b
+                if np.intersect1d(order[in_a], order[in_b]).size:
+                    continue
+                d = distance[np.ix_(in_a, in_b)].mean()
+                if d < best:
+                    best, pair = d, (a, b)
+        if pair is None:
+            return clusters
+        clusters[clusters == pair[1]] = pair[0]
+
+
+def _close_modes(freq_hz, shapes, close_rtol):
+    """Per mode: whether another lies within ``close_rtol`` in frequency, and
+    the MAC with the nearest mode in frequency (NaN when alone)."""
+    n = len(freq_hz)
+    if n < 2:
+        return np.zeros(n, dtype=bool), np.full(n, np.nan)
+    gap = np.abs(freq_hz[:, None] - freq_hz[None, :]) / np.maximum(freq_hz[:, None], freq_hz[None, :])
+    np.fill_diagonal(gap, np.inf)
+    nearest = np.argmin(gap, axis=1)
+    return gap[np.arange(n), nearest] < close_rtol, mac(shapes, shapes)[np.arange(n), nearest]
+
+
+def _empty(columns) -> pd.DataFrame:
+    return pd.DataFrame({c: pd.Series(dtype=float) for c in columns})
+
+
+def _derivatives(quantities, n_channels):
+    """Derivative order of each channel's quantity (None when not given)."""
+    if quantities is None:
+        return None
+    quantities = list(quantities)
+    if len(quantities) != n_channels or any(q not in QUANTITIES for q in quantities):
+        raise ValueError(f"quantities must name one of {sorted(QUANTITIES)} for each of the {n_channels} channels, "
+                         f"got {quantities!r}")
+    return np.array([QUANTITIES[q] for q in quantities])
 
 
 def _mean_spectrum(y, dt, min_bins=4096):

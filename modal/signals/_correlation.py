@@ -17,15 +17,23 @@ import scipy.fft
 from .._checks import positive_int, records
 
 ESTIMATORS = ("biased", "unbiased")
+#: Samples per block of the correlation sums: a longer record is summed block
+#: by block, so memory does not grow with its length (time grows linearly).
+BLOCK_SAMPLES = 2**16
 
 
 def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
     """NExT cross-correlation functions, computed by FFT.
 
     ``R[r, k, c] = 1 / N_k sum_t y_c(t + k) y_{refs[r]}(t)`` for lags
-    ``k = 0 ... n_lags - 1``, averaged over the data sets. Each channel is
-    zero-padded to at least ``n_samples + n_lags`` before the FFT, so the
-    circular correlation equals the linear one (no wrap-around).
+    ``k = 0 ... n_lags - 1``, averaged over the data sets. The sum over ``t``
+    is taken in blocks of :data:`BLOCK_SAMPLES` samples (one block for a
+    shorter record): each block's reference samples and the channels'
+    samples from the same start to ``n_lags - 1`` beyond its end are
+    zero-padded to at least their length plus ``n_lags`` before the FFT, so
+    the circular correlation equals the linear one (no wrap-around), and the
+    cross-spectra of all blocks are summed before one inverse FFT. Memory is
+    that of one block, whatever the record's length.
 
     Parameters
     ----------
@@ -63,10 +71,25 @@ def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
             raise ValueError(f"refs must be a non-empty sequence of channel indices, got {refs!r}")
         if np.any(refs < 0) or np.any(refs >= n_channels) or len(set(refs.tolist())) != refs.size:
             raise ValueError(f"refs must be distinct channel indices in 0 ... {n_channels - 1}, got {refs.tolist()}")
-    n_fft = scipy.fft.next_fast_len(n_samples + n_lags, real=True)
-    spectra = scipy.fft.rfft(y, n=n_fft, axis=1)  # (m, bins, l)
-    # Cross-spectra conj(Y_r) Y_c summed over the data sets, then back to lags.
-    cross = np.einsum("mfr,mfc->rfc", spectra[:, :, refs].conj(), spectra)
+    cross, n_fft = _cross_spectra_sum(y, n_lags, refs)
     corr = scipy.fft.irfft(cross, n=n_fft, axis=1)[:, :n_lags, :]
     counts = n_samples - np.arange(n_lags) if estimator == "unbiased" else np.full(n_lags, n_samples)
     return corr / (n_sets * counts)[None, :, None]
+
+
+def _cross_spectra_sum(y, n_lags, refs):
+    """``sum over blocks and data sets of conj(FFT(y_r)) FFT(y_c)``, shape
+    ``(n_refs, n_bins, n_channels)``, on one FFT length for all blocks, and
+    that length."""
+    n_sets, n_samples, n_channels = y.shape
+    block = max(BLOCK_SAMPLES, 4 * n_lags)
+    n_fft = scipy.fft.next_fast_len(min(block, n_samples) + n_lags, real=True)
+    cross = np.zeros((len(refs), n_fft // 2 + 1, n_channels), dtype=complex)
+    for start in range(0, n_samples, block):
+        stop = min(start + block, n_samples)
+        ahead = y[:, start:min(stop + n_lags - 1, n_samples)]  # the channels, n_lags - 1 beyond the block
+        spectra = scipy.fft.rfft(ahead, n=n_fft, axis=1)  # (m, bins, l)
+        ref_spectra = spectra[:, :, refs] if stop == ahead.shape[1] + start else scipy.fft.rfft(
+            y[:, start:stop][:, :, refs], n=n_fft, axis=1)
+        cross += np.einsum("mfr,mfc->rfc", ref_spectra.conj(), spectra)
+    return cross, n_fft
