@@ -5,13 +5,49 @@ results of a record written to a folder."""
 from __future__ import annotations
 
 import math
+
+import numpy as np
 from collections.abc import Callable
 
-from .._checks import positive_float, positive_int
+from .._checks import positive_float, positive_int, unit_scale
 from ..identification import Stabilisation, StabilityCriteria, stabilisation
 
 
 EXCITATIONS = ("ambient", "free_decay")
+#: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
+#: the record's lowest spectral peak ...
+AUTO_PERIODS = 3
+#: ... in about this many block rows: the record is decimated to about
+#: ``AUTO_ROWS / AUTO_PERIODS`` samples per period of that peak (at most), so
+#: the band kept reaches some ``AUTO_ROWS / (2.5 AUTO_PERIODS)`` = 27 times it.
+AUTO_ROWS = 200
+
+
+def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
+    """The lowest prominent peak of a record's spectrum (Hz), or None.
+
+    Welch's averaged spectrum (scipy.signal.welch, segments of the largest
+    power of two up to an eighth of the record), each channel normalised
+    to its maximum, averaged over channels, in dB; the lowest peak
+    (scipy.signal.find_peaks) at least ``prominence_db`` above its
+    surroundings, above five frequency bins and ten periods per record (the
+    record cannot resolve lower: drift and trends lie there).
+    """
+    from scipy.signal import find_peaks, welch
+
+    y = np.asarray(y, dtype=float)
+    n = y.shape[0]
+    if n < 64:
+        return None
+    nperseg = 2 ** int(np.log2(n / 8)) if n >= 256 else n
+    freqs, power = welch(y, fs=1 / dt, nperseg=nperseg, axis=0)
+    peak = power.max(axis=0)
+    level = np.mean(power / np.where(peak > 0, peak, 1), axis=1)
+    db = 10 * np.log10(level + 1e-300)
+    peaks, _ = find_peaks(db, prominence=prominence_db)
+    floor = max(5 * freqs[1], 10 / (n * dt))
+    peaks = peaks[freqs[peaks] > floor]
+    return float(freqs[peaks[0]]) if len(peaks) else None
 
 
 def identify_record(
@@ -39,6 +75,12 @@ def identify_record(
       ERA data;
     - ``"free_decay"``: the record from its impact on
       (:func:`modal.decay_start`) is.
+
+    Without ``fmax`` and ``rows`` the settings come from the record: the
+    lowest prominent peak of its spectrum (:func:`lowest_peak_hz`) sets the
+    block rows so the Hankel matrix spans :data:`AUTO_PERIODS` of its
+    periods, and the record is decimated so that takes about
+    :data:`AUTO_ROWS` rows; ``log`` says what was chosen.
 
     :func:`stabilisation` with ``rows`` block rows and as many columns as the
     data allow (free decay: at most ``10 rows``, the decay is then long gone
@@ -79,10 +121,12 @@ def identify_record(
     if excitation not in EXCITATIONS:
         raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
     y = detrend(acc)
+    y = y / unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     dt = positive_float("dt", dt)
     max_order = positive_int("max_order", max_order, minimum=2)
     n_channels = y.shape[1]
-    rows = max(60, math.ceil(2 * max_order / n_channels)) if rows is None else positive_int("rows", rows)
+    min_rows = max(60, math.ceil(2 * max_order / n_channels))
+    rows = None if rows is None else positive_int("rows", rows)
     if fmax is not None:
         fmax = positive_float("fmax", fmax)
         if fmax >= 0.5 / dt:
@@ -91,6 +135,23 @@ def identify_record(
         if factor >= 2:
             log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
             y, dt = decimate(y, dt, factor)
+        else:
+            log(f"fmax = {fmax:g} Hz: no decimation ({1 / dt:g} Hz is below 2 x 2.5 fmax); "
+                f"modes are selected below {fmax:g} Hz")
+        rows = min_rows if rows is None else rows
+    elif rows is None:
+        low = lowest_peak_hz(y, dt)
+        if low is None:
+            log(f"no spectral peak found: {min_rows} block rows, no decimation")
+            rows = min_rows
+        else:
+            factor = max(1, int(1 / (dt * AUTO_ROWS * low / AUTO_PERIODS)))
+            if factor >= 2:
+                y, dt = decimate(y, dt, factor)
+            rows = max(min_rows, math.ceil(AUTO_PERIODS / (low * dt)))
+            log(f"lowest spectral peak {low:.4g} Hz: {rows} block rows span {rows * dt:.3g} s "
+                f"({AUTO_PERIODS} periods of it)" + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "")
+                + " (set --fmax and --rows to choose)")
     if highpass_hz is not None:
         log(f"high-pass at {highpass_hz:g} Hz")
         y = zero_phase_filter(y, dt, highpass_hz=highpass_hz)
