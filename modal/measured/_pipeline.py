@@ -35,14 +35,14 @@ def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
     """
     from scipy.signal import find_peaks, welch
 
-    y = np.asarray(y, dtype=float)
     n = y.shape[0]
     if n < 64:
         return None
     nperseg = 2 ** int(np.log2(n / 8)) if n >= 256 else n
-    freqs, power = welch(y, fs=1 / dt, nperseg=nperseg, axis=0)
-    peak = power.max(axis=0)
-    level = np.mean(power / np.where(peak > 0, peak, 1), axis=1)
+    level = 0.0
+    for c in range(y.shape[1]):  # channel by channel: welch's segments of one channel at a time in memory
+        freqs, power = welch(y[:, c], fs=1 / dt, nperseg=nperseg)
+        level = level + power / (power.max() if power.max() > 0 else 1) / y.shape[1]
     db = 10 * np.log10(level + 1e-300)
     peaks, _ = find_peaks(db, prominence=prominence_db)
     floor = max(5 * freqs[1], 10 / (n * dt))
@@ -120,8 +120,8 @@ def identify_record(
     log = log or (lambda message: None)
     if excitation not in EXCITATIONS:
         raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
-    y = detrend(acc)
-    y = y / unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
+    y = detrend(acc)  # a copy of the record, the only one of its size
+    y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     dt = positive_float("dt", dt)
     max_order = positive_int("max_order", max_order, minimum=2)
     n_channels = y.shape[1]

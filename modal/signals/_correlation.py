@@ -18,8 +18,11 @@ from .._checks import positive_int, records
 
 ESTIMATORS = ("biased", "unbiased")
 #: Samples per block of the correlation sums: a longer record is summed block
-#: by block, so memory does not grow with its length (time grows linearly).
+#: by block, so memory does not grow with its length (time grows linearly) ...
 BLOCK_SAMPLES = 2**16
+#: ... fewer when the summed cross-spectra (references x channels x bins) would
+#: exceed this many bytes, but never fewer than four times the lags.
+CROSS_SPECTRA_BYTES = 64 * 2**20
 
 
 def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
@@ -82,7 +85,7 @@ def _cross_spectra_sum(y, n_lags, refs):
     ``(n_refs, n_bins, n_channels)``, on one FFT length for all blocks, and
     that length."""
     n_sets, n_samples, n_channels = y.shape
-    block = max(BLOCK_SAMPLES, 4 * n_lags)
+    block = max(4 * n_lags, min(BLOCK_SAMPLES, CROSS_SPECTRA_BYTES // (8 * len(refs) * n_channels)))
     n_fft = scipy.fft.next_fast_len(min(block, n_samples) + n_lags, real=True)
     cross = np.zeros((len(refs), n_fft // 2 + 1, n_channels), dtype=complex)
     for start in range(0, n_samples, block):

@@ -125,21 +125,39 @@ def amplitude_spectrum(y, dt):
 # function: it costs about 0.3 s and most jobs never need it.
 
 
-def detrend(y, kind="linear") -> np.ndarray:
-    """Remove the mean (``kind="constant"``) or a least-squares line
-    (``kind="linear"``) from each channel (:func:`scipy.signal.detrend`).
+def detrend(y, kind="linear", overwrite=False) -> np.ndarray:
+    """Remove the mean (``kind="constant"``) or the least-squares line
+    (``kind="linear"``) from each channel.
+
+    The line is the projection on the orthogonal pair ``1`` and ``t - t_mean``
+    (what :func:`scipy.signal.detrend` solves by least squares), subtracted in
+    blocks of :data:`DETREND_BLOCK` samples, so no temporary as large as the
+    record is made: a long record needs one copy (none with ``overwrite``).
 
     Parameters
     ----------
     y : array_like, shape (n_samples, n_channels)
     kind : {"linear", "constant"}
+    overwrite : bool
+        Detrend ``y`` in place when it is a writeable float64 array.
     """
-    from scipy.signal import detrend as scipy_detrend
-
-    y = finite_array("y", y, ndim=(2,))
     if kind not in ("linear", "constant"):
         raise ValueError(f"kind must be 'linear' or 'constant', got {kind!r}")
-    return scipy_detrend(y, axis=0, type=kind)
+    y = finite_array("y", y, ndim=(2,))
+    own = overwrite and isinstance(y, np.ndarray) and y.dtype == np.float64 and y.flags.writeable
+    out = y if own else np.array(y, dtype=float)
+    n = out.shape[0]
+    mean = out.mean(axis=0)
+    t = np.arange(n) - (n - 1) / 2
+    slope = (t @ out) / (t @ t) if kind == "linear" and n > 1 else np.zeros(out.shape[1])
+    for start in range(0, n, DETREND_BLOCK):
+        block = slice(start, start + DETREND_BLOCK)
+        out[block] -= mean + t[block, None] * slope
+    return out
+
+
+#: Samples per block of :func:`detrend`'s subtraction.
+DETREND_BLOCK = 2**16
 
 
 def zero_phase_filter(y, dt, highpass_hz=None, lowpass_hz=None, order=4) -> np.ndarray:
@@ -225,9 +243,13 @@ def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
             raise ValueError(f"y has {n_samples} samples, too few to decimate by {factor}"
                              f"{stage if done else ''}")
         kept = -(-kept // step)
-    for step in stages:
-        y = scipy_decimate(y, step, axis=0, zero_phase=True)
-    return np.ascontiguousarray(y), dt * factor
+    def one_channel(x):
+        for step in stages:
+            x = scipy_decimate(x, step, zero_phase=True)
+        return x
+
+    # channel by channel: the filter's temporaries are those of one channel, not of the record
+    return np.column_stack([one_channel(y[:, c]) for c in range(y.shape[1])]), dt * factor
 
 
 def decay_start(y) -> int:
