@@ -49,8 +49,7 @@ def ambient_record(n_samples, n_channels, dt, seed=0, block=2**18):
         for k, (b, a) in enumerate(filters):
             q[:, k], state[k] = lfilter(b, a, rng.standard_normal(n), zi=state[k])
         y[start:start + n] = q @ shapes.T
-    y += 0.02 * y.std() * rng.standard_normal(y.shape)
-    return y
+        y[start:start + n] += 0.02 * rng.standard_normal((n, n_channels))  # sensor noise
 
 
 def main() -> None:

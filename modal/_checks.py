@@ -123,5 +123,5 @@ def unit_scale(a: np.ndarray) -> float:
     depend on the data's units or scale (1e-160 or 1e+150 would underflow or
     overflow in correlations); dividing by a power of two is exact.
     """
-    peak = float(np.max(np.abs(a)))
+    peak = max(float(np.max(a)), -float(np.min(a))) if np.size(a) else 0.0  # no |a| temporary of a's size
     return float(np.ldexp(1.0, int(np.frexp(peak)[1]))) if peak > 0 else 1.0

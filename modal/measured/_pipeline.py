@@ -62,6 +62,7 @@ def identify_record(
     criteria: StabilityCriteria | None = None,
     log: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
+    quantities=None,
 ) -> tuple[Stabilisation, float]:
     """Modes of a measured record, as ``modal identify`` finds them.
 
@@ -107,6 +108,10 @@ def identify_record(
         Receives one line per step (for progress messages).
     progress : callable, optional
         Passed to :func:`stabilisation`.
+    quantities : sequence of str, optional
+        What each channel measures (``"displacement"``, ``"velocity"``,
+        ``"acceleration"``), so channels of mixed quantities give one shape
+        (:func:`stabilisation`).
 
     Returns
     -------
@@ -171,7 +176,7 @@ def identify_record(
             raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
-                           progress=progress)
+                           progress=progress, quantities=quantities)
     return result, dt
 
 
