@@ -80,6 +80,7 @@ def test_declared_ranges_run_the_small_workflow(tmp_path, resolution):
     env.pop("UV_OVERRIDE", None)
     install = subprocess.run(
         [uv, "pip", "install", "--python", str(python), "--resolution", resolution, "--no-progress",
+         "--compile-bytecode",  # each workflow job imports numpy, pandas, scipy: no .pyc means minutes
          "-e", f"{ROOT}[{EXTRAS}]"], env=env, capture_output=True, text=True, timeout=1200)
     assert install.returncode == 0, f"uv pip install ({resolution}) failed:\n{install.stderr[-4000:]}"
     versions = subprocess.run([uv, "pip", "freeze", "--python", str(python)], env=env, capture_output=True,
@@ -87,6 +88,7 @@ def test_declared_ranges_run_the_small_workflow(tmp_path, resolution):
     print(f"installed ({resolution}):\n{versions}")
 
     # A copy of the project: the checkout's results/ is never written.
+    (tmp_path / "wf").mkdir()
     workdir = copy_project(tmp_path / "wf")
     run = subprocess.run([str(python), "-m", "snakemake", "--cores", "2", "--configfile", SMALL_CONFIG_FILE,
                           "--workflow-profile", "workflow/profiles/default"],
