@@ -61,7 +61,7 @@ EPILOG = ("Exit codes: 0 done, 1 internal error, 2 bad options (also an --out th
           "the input file, a file or device, below a file, read-only), 3 unreadable record (also a directory, "
           "FIFO or device), 4 identification impossible (also no vibration, or not enough memory), "
           "5 no mode selected, 6 results not written (e.g. disk full; --out is left as it was). "
-          "Damping is printed and written as a ratio to critical (fraction, not %%).")
+          "Damping is printed and written as a ratio to critical (fraction, not %).")
 
 
 def _indices(text: str) -> list[int]:
@@ -110,7 +110,8 @@ def parser() -> argparse.ArgumentParser:
     cmd.add_argument("--delimiter", help="text files: column delimiter (default: sniffed)")
     cmd.add_argument("--decimal", default=".", choices=[".", ","], help="text files: decimal mark")
     cmd.add_argument("--skip-rows", type=int, default=0, help="text files: lines to skip at the top")
-    cmd.add_argument("--out", type=Path, required=True, help="output folder (created)")
+    cmd.add_argument("--out", type=Path, required=True,
+                     help="output folder (created; its files are replaced only once all are written)")
     cmd.add_argument("--quiet", action="store_true", help="no progress messages")
     return main
 

@@ -18,6 +18,10 @@ from contextlib import contextmanager
 from pathlib import Path
 
 
+#: The files :func:`modal.write_identification` writes into the folder.
+RESULT_FILES = ("modes.csv", "poles.csv", "stabilisation.png")
+
+
 class OutputError(ValueError):
     """The output folder cannot hold the results (found before any computation)."""
 
@@ -50,7 +54,7 @@ def check_output(out, inputs=()) -> Path:
 
 def _check_output(out: Path, inputs) -> Path:
     for source in inputs:
-        if source is not None and (_same_file(out, Path(source)) or _inside(Path(source), out)):
+        if source is not None and (_same_file(out, Path(source)) or _would_replace(out, Path(source))):
             raise OutputError(f"out: {out} names the input {source}: give a new folder for the results")
     if out.exists():
         mode = out.stat().st_mode
@@ -80,12 +84,12 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def _inside(path: Path, folder: Path) -> bool:
-    """Would replacing ``folder`` touch ``path``? (``path`` lies in it.)"""
+def _would_replace(folder: Path, path: Path) -> bool:
+    """Is ``path`` one of the files the results would replace in ``folder``?
+    (A record beside them is fine: nothing else in the folder is touched.)"""
     try:
-        path.resolve().relative_to(folder.resolve())
-        return True
-    except (ValueError, OSError):
+        return path.name in RESULT_FILES and path.resolve().parent == folder.resolve()
+    except OSError:
         return False
 
 

@@ -68,6 +68,26 @@ def test_out_naming_the_input_is_refused_and_the_record_kept(capsys, noise):
     assert noise.read_bytes() == before
 
 
+def test_out_that_would_overwrite_the_input_is_refused(capsys, tmp_path):
+    record = tmp_path / "modes.csv"  # a record that happens to bear a result's name
+    t = np.arange(2000) / 100
+    record.write_text("t,a,b\n" + "\n".join(f"{v:.2f},{np.sin(7 * v):.6f},{np.cos(3 * v):.6f}" for v in t))
+    before = record.read_bytes()
+    code, _, err = _run(capsys, "identify", record, "--ambient", "--out", tmp_path)
+    assert code == EXIT_BAD_OPTIONS
+    assert "names the input" in _one_line(err)
+    assert record.read_bytes() == before
+
+
+def test_out_may_be_the_folder_of_the_record(capsys, noise):
+    before = noise.read_bytes()
+    code, _, _ = _run(capsys, "identify", noise, "--fs", 100, "--ambient", "--out", noise.parent, "--quiet")
+    assert code == EXIT_NO_MODES  # noise: the folder is written, without a mode
+    assert noise.read_bytes() == before
+    assert (noise.parent / "modes.csv").exists() and (noise.parent / "stabilisation.png").exists()
+    _no_partial_files(noise.parent)
+
+
 @pytest.mark.parametrize("out, why", [("/dev/null/x", "/dev/null is a device, not a folder"),
                                       ("/proc/version", "exists and is a file, not a folder")])
 def test_out_that_cannot_be_a_folder_is_refused(capsys, noise, out, why):
