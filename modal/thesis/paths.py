@@ -1,8 +1,9 @@
 """Where the project's files are, so a notebook opened anywhere finds them.
 
-The report notebooks take their paths as papermill parameters (the workflow
-injects its run's folders); opened by hand in Jupyter, from any folder, they
-default to the committed results under :data:`PROJECT`.
+The report notebooks take their paths as papermill parameters, relative to
+the project (the workflow injects its run's folders and runs from the
+project). Opened by hand in Jupyter from another folder (``notebooks/``),
+:func:`project_paths` finds the same files under :data:`PROJECT`.
 """
 
 from pathlib import Path
@@ -11,6 +12,7 @@ from pathlib import Path
 PROJECT = Path(__file__).resolve().parents[2]
 
 
-def project_path(relative: str) -> str:
-    """``relative`` (e.g. ``"results/tables"``) under :data:`PROJECT`, as a string."""
-    return str(PROJECT / relative)
+def project_paths(*paths: str) -> list[str]:
+    """Each path as given where it exists from the current folder, else under
+    :data:`PROJECT` (a relative path from a notebook opened anywhere)."""
+    return [p if Path(p).exists() or Path(p).is_absolute() else str(PROJECT / p) for p in paths]
