@@ -187,11 +187,15 @@ class Stabilisation:
                       "--highpass removes a drift, a longer record reduces noise poles.")
             return f"{found}, none physical ({why}).{advice}"
         min_poles = criteria.min_poles or max(3, math.ceil(0.4 * n_orders))
-        f = np.sort(poles["freq_hz"].to_numpy()[candidates])
-        groups = np.split(f, np.flatnonzero(np.diff(f) > criteria.cluster_distance * f[1:]) + 1)
-        largest = max(groups, key=len)
+        if len(self.candidates):  # the clusters themselves, by size
+            largest = self.candidates.loc[self.candidates["n_poles"].idxmax()]
+            near, size = largest["freq_hz"], int(largest["n_poles"])
+        else:
+            f = np.sort(poles["freq_hz"].to_numpy()[candidates])
+            group = max(np.split(f, np.flatnonzero(np.diff(f) > criteria.cluster_distance * f[1:]) + 1), key=len)
+            near, size = group.mean(), len(group)
         return (f"{found}, {int(candidates.sum())} of them physical, but no cluster of them recurs at enough "
-                f"orders: the largest group (near {largest.mean():.4g} Hz) has {len(largest)} poles, a mode needs "
+                f"orders: the largest group (near {near:.4g} Hz) has {size} poles, a mode needs "
                 f"{min_poles} ({'set' if criteria.min_poles else '40 % of the orders'}). Noise alone gives such "
                 "scattered poles; if the record holds the structure's response, what could help: a longer "
                 "record (ambient: more averaging steadies the poles); --rows so that the Hankel matrix spans a few "
@@ -298,15 +302,12 @@ def stabilisation(
     min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
     table["mode"], modes, complex_shapes, candidates = _select_modes(table, pole_shapes, criteria, min_poles)
     poles = pd.DataFrame({name: table[name] for name in POLE_COLUMNS + ["physical", "mode"]})
-    if modes.empty:
-        n_stable = int(np.sum(table["stable"]))
-        n_physical = int(np.sum(table["stable"] & table["physical"]))
-        warnings.warn(f"no mode selected: {n_stable} stable poles, {n_physical} of them physical, "
-                      f"{len(candidates)} candidate clusters below {min_poles} poles (see the result's candidates)",
-                      ModalWarning, stacklevel=2)
     spectrum_hz, spectrum = _mean_spectrum(y[:, start:], dt)
-    return Stabilisation(modes, normalise_shapes(complex_shapes), poles, pole_shapes, sv, spectrum_hz, spectrum,
-                         criteria, complex_shapes, candidates)
+    result = Stabilisation(modes, normalise_shapes(complex_shapes), poles, pole_shapes, sv, spectrum_hz, spectrum,
+                           criteria, complex_shapes, candidates)
+    if modes.empty:
+        warnings.warn(f"no mode selected: {result.no_mode_reason()}", ModalWarning, stacklevel=2)
+    return result
 
 
 def _poles(p, d, qt, h1, orders, l, m, dt, progress=None, derivatives=None):
