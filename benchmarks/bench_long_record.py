@@ -50,6 +50,7 @@ def ambient_record(n_samples, n_channels, dt, seed=0, block=2**18):
             q[:, k], state[k] = lfilter(b, a, rng.standard_normal(n), zi=state[k])
         y[start:start + n] = q @ shapes.T
         y[start:start + n] += 0.02 * rng.standard_normal((n, n_channels))  # sensor noise
+    return y
 
 
 def main() -> None:
