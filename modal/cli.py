@@ -86,6 +86,16 @@ def _positive(kind):
     return parse
 
 
+def _quantities(text: str) -> list[str]:
+    names = {"d": "displacement", "v": "velocity", "a": "acceleration"}
+    values = [v.strip().lower() for v in text.split(",") if v.strip()]
+    full = [names.get(v, v) for v in values]
+    if not full or any(v not in names.values() for v in full):
+        raise argparse.ArgumentTypeError(f"expected comma-separated d, v or a (displacement, velocity, "
+                                         f"acceleration), got {text!r}")
+    return full
+
+
 def parser() -> argparse.ArgumentParser:
     main = argparse.ArgumentParser(prog="modal", description="Modal identification of measured records.")
     commands = main.add_subparsers(dest="command", required=True)
@@ -103,9 +113,13 @@ def parser() -> argparse.ArgumentParser:
     kind = cmd.add_mutually_exclusive_group(required=True)
     kind.add_argument("--ambient", action="store_true", help="output-only (operational) record")
     kind.add_argument("--free-decay", action="store_true", help="impact test: the decay after the impact")
-    cmd.add_argument("--fmax", type=_positive(float), help="highest frequency of interest (Hz); decimates to 2.5 fmax")
+    cmd.add_argument("--fmax", type=_positive(float), help="highest frequency of interest (Hz); decimates to 2.5 fmax "
+                     "(default: from the record's lowest spectral peak, see the log)")
     cmd.add_argument("--max-order", type=_positive(int), default=60, help="largest model order, even (default 60)")
-    cmd.add_argument("--rows", type=_positive(int), help="block rows of the Hankel matrix (default 60 or more)")
+    cmd.add_argument("--rows", type=_positive(int), help="block rows of the Hankel matrix (default: 3 periods of the "
+                     "lowest spectral peak without --fmax, 60 or more with it)")
+    cmd.add_argument("--quantities", type=_quantities, help="what each channel used measures, d (displacement), "
+                     "v (velocity) or a (acceleration), e.g. v,v,a,a: one shape from mixed channels (default all alike)")
     cmd.add_argument("--highpass", type=_positive(float), help="zero-phase high-pass before identification (Hz)")
     cmd.add_argument("--delimiter", help="text files: column delimiter (default: sniffed)")
     cmd.add_argument("--decimal", default=".", choices=[".", ","], help="text files: decimal mark")
@@ -151,7 +165,7 @@ def identify(args) -> int:
             result, _ = modal.write_identification(
                 record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels,
                 refs=args.refs, max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass,
-                title=args.path.name, log=log, progress=progress,
+                title=args.path.name, log=log, progress=progress, quantities=args.quantities,
             )
     except OutputError as exc:
         return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")

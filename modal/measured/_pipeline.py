@@ -8,6 +8,7 @@ import math
 from collections.abc import Callable
 
 import numpy as np
+import pandas as pd
 
 from .._checks import positive_float, positive_int, unit_scale
 from ..identification import Stabilisation, StabilityCriteria, stabilisation
@@ -306,7 +307,8 @@ def identify_record(
 
 
 def write_identification(record, out, excitation, channels=None, refs=None, max_order=60, fmax=None, rows=None,
-                         highpass_hz=None, title=None, log=None, progress=None) -> tuple[Stabilisation, float]:
+                         highpass_hz=None, title=None, log=None, progress=None,
+                         quantities=None) -> tuple[Stabilisation, float]:
     """Identify a record's modes and write them to the folder ``out``.
 
     What ``modal identify`` and the workflow's measured records both do:
@@ -318,7 +320,13 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
       column per channel: ``phi_<name>`` when the record names its channels
       (a CSV header, ``.lvm`` or UFF names: ``record.channels["name"]``),
       else ``phi_<number>`` (the record's 0-based channel numbers; so too when
-      names repeat or are the reader's placeholders ``ch1``, ``ch2``, ...);
+      names repeat or are the reader's placeholders ``ch1``, ``ch2``, ...):
+      the real normalised view, beside ``mpc`` and ``mpd`` (its complexity),
+      ``close`` and ``close_mac``;
+    - ``out/complex_shapes.csv``: the shapes as identified, one row per mode
+      and channel (``mode``, ``channel``, ``re``, ``im``, ``magnitude``,
+      ``phase_deg``);
+    - ``out/candidates.csv``: clusters that recur too rarely to be modes;
     - ``out/poles.csv``: every pole of the diagram;
     - ``out/stabilisation.png``: the diagram (:func:`stabilisation_figure`).
 
@@ -341,8 +349,9 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     refs : sequence of int, optional
         Reference channels for the correlations, in the record's channel
         numbering, among ``channels``; default all.
-    max_order, fmax, rows, highpass_hz, log, progress
-        As :func:`identify_record`; ``max_order`` must be even.
+    max_order, fmax, rows, highpass_hz, log, progress, quantities
+        As :func:`identify_record` (``quantities`` one per channel used);
+        ``max_order`` must be even.
     title : str, optional
         Title of the diagram.
 
@@ -384,11 +393,20 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     columns = shape_columns(record, channels)
     with staged_folder(out) as staging:
         result, dt = identify_record(acc, record.dt, excitation, max_order=max_order, fmax=fmax,
-                                     rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress)
+                                     rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress,
+                                     quantities=quantities)
         modes = result.modes.copy()
         for c, column in enumerate(columns):
             modes[column] = result.shapes[c] if len(modes) else []
         modes.to_csv(staging / "modes.csv", index=False, float_format="%.6g")
+        shapes = result.complex_shapes
+        pd.DataFrame({
+            "mode": np.repeat(modes["mode"].to_numpy(dtype=int), len(columns)),
+            "channel": np.tile([c.removeprefix("phi_") for c in columns], len(modes)),
+            "re": shapes.T.real.ravel(), "im": shapes.T.imag.ravel(), "magnitude": np.abs(shapes.T).ravel(),
+            "phase_deg": np.degrees(np.angle(shapes.T)).ravel(),
+        }).to_csv(staging / "complex_shapes.csv", index=False, float_format="%.6g")
+        result.candidates.to_csv(staging / "candidates.csv", index=False, float_format="%.6g")
         result.poles.to_csv(staging / "poles.csv", index=False, float_format="%.6g")
         from ._figures import stabilisation_figure
 
