@@ -32,7 +32,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 
 import modal  # noqa: E402
 
-decompose = importlib.import_module("modal.era").decompose  # ``modal.era`` is the function
+decompose = modal.decompose
 
 N_CHANNELS, N_SAMPLES, ROWS, COLS, N_MODES, DT = 12, 20_000, 40, 2000, 12, 0.005
 

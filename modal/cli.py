@@ -8,7 +8,7 @@
                         [--skip-rows N] --out DIR
 
 reads a record (:func:`modal.read_record`), identifies its modes
-(:func:`modal.identify_record`: NExT correlations for ambient data, the decay
+(:func:`modal.write_identification`: NExT correlations for ambient data, the decay
 after the impact for free decay, a stabilisation diagram with automatic mode
 selection) and writes ``DIR/modes.csv``, ``DIR/poles.csv`` and
 ``DIR/stabilisation.png``.
@@ -82,8 +82,7 @@ def parser() -> argparse.ArgumentParser:
 
 
 def identify(args) -> int:
-    import numpy as np
-
+    """Run ``modal identify`` with parsed arguments; returns the exit code."""
     import modal
 
     def log(message):
@@ -103,42 +102,20 @@ def identify(args) -> int:
         return EXIT_BAD_FILE
     n_samples, n_channels = record.acc.shape
     log(f"read {args.path}: {n_samples} samples x {n_channels} channels at {record.fs:.6g} Hz")
-    channels = list(range(n_channels)) if args.channels is None else args.channels
-    refs = None
     try:
-        if max(channels) >= n_channels:
-            raise ValueError(f"--channels {channels}: the record has channels 0 ... {n_channels - 1}")
-        if args.refs is not None:
-            missing = [r for r in args.refs if r not in channels]
-            if missing:
-                raise ValueError(f"--refs {missing} are not among the channels used {channels}")
-            refs = [channels.index(r) for r in args.refs]
-        if args.max_order % 2:
-            raise ValueError(f"--max-order must be even, got {args.max_order}")
-        result, dt = modal.identify_record(
-            record.acc[:, channels], record.dt, "ambient" if args.ambient else "free_decay",
-            max_order=args.max_order, fmax=args.fmax, rows=args.rows, refs=refs, highpass_hz=args.highpass,
-            log=log, progress=progress,
+        result, _ = modal.write_identification(
+            record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels, refs=args.refs,
+            max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass,
+            title=args.path.name, log=log, progress=progress,
         )
     except ValueError as exc:
         print(f"modal identify: {args.path}: {exc}", file=sys.stderr)
         return EXIT_CANNOT_IDENTIFY
-    args.out.mkdir(parents=True, exist_ok=True)
-    modes = result.modes.copy()
-    for c, channel in enumerate(channels):
-        modes[f"phi_{channel}"] = result.shapes[c] if len(modes) else []
-    modes.to_csv(args.out / "modes.csv", index=False, float_format="%.6g")
-    result.poles.to_csv(args.out / "poles.csv", index=False, float_format="%.6g")
-
-    import matplotlib
-
-    matplotlib.use("Agg")
-    figure = modal.stabilisation_figure(result, fmax=args.fmax or 0.5 / dt, title=args.path.name)
-    figure.savefig(args.out / "stabilisation.png", dpi=120)
     log(f"wrote {args.out / 'modes.csv'}, poles.csv and stabilisation.png")
+    modes = result.modes
     print(f"{args.path.name}: {len(modes)} modes ({args.max_order // 2} orders, {len(result.poles)} poles)")
     if len(modes):
-        print(result.modes.assign(damping_pct=100 * result.modes["damping"])[
+        print(modes.assign(damping_pct=100 * modes["damping"])[
             ["mode", "freq_hz", "freq_std_hz", "damping_pct", "n_poles", "mpc", "mamc"]
         ].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0

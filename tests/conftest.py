@@ -34,6 +34,6 @@ def demo(beam):
 @pytest.fixture(scope="session")
 def thesis_grid_config():
     """The ``grid`` block of config/config.yaml: ``model`` (a :class:`modal.Grid`)
-    and ``test`` (the settings of :func:`modal.experiment.shake_test`)."""
+    and ``test`` (the settings of :func:`modal.shake_test`)."""
     config = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
     return yaml.safe_load(config.read_text())["grid"]

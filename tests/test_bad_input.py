@@ -133,7 +133,10 @@ def test_simulation_bad_input(beam):
     with pytest.raises(ValueError, match="damping"):
         modal.beam_impulse_response(beam, 3, 1.0, [1, 2], 0.01, 100, damping=-0.1)
     with pytest.raises(ValueError, match="damping"):
-        modal.beam_impulse_response(beam, 3, 1.0, [1, 2], 0.01, 100, damping=[0.1, 0.2])
+        modal.beam_impulse_response(beam, 3, 1.0, [1, 2], 0.01, 100, damping=[])
+    # A shorter list is padded with its last value (modal.damping_ratios).
+    rec = modal.beam_impulse_response(beam, 3, 1.0, [1, 2], 0.01, 100, damping=[0.1, 0.2])
+    np.testing.assert_array_equal(rec.damping, [0.1, 0.2, 0.2])
     with pytest.raises(ValueError, match="x must lie on the beam"):
         modal.beam_impulse_response(beam, 3, 1.0, [1, 7], 0.01, 100)
     with pytest.raises(ValueError, match="noise_ratio"):

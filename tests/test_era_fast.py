@@ -8,9 +8,10 @@ import pytest
 
 import modal
 
-era_module = importlib.import_module("modal.era")  # ``modal.era`` is the function
-decompose, realise, block_hankel_gram = era_module.decompose, era_module.realise, era_module.block_hankel_gram
-leading_eigenpairs = era_module.leading_eigenpairs
+era_module = importlib.import_module("modal.identification._era")
+kernels = importlib.import_module("modal.identification._era_kernels")
+decompose, realise, block_hankel_gram = kernels.decompose, era_module.realise, kernels.block_hankel_gram
+leading_eigenpairs = kernels.leading_eigenpairs
 
 THESIS_SAMPLES = 3594
 IRREGULAR = np.array([0.4, 1.1, 1.9, 2.3, 3.05, 3.7, 4.45])  # off the thesis's iL/7
@@ -329,7 +330,7 @@ def test_eigen_poles_match_the_complex_eigendecomposition():
     z, real, shapes, histories = era_module.eigen_poles(phi, output, states)
 
     w, psi = np.linalg.eig(phi)
-    kept = (np.abs(w.imag) <= era_module.REAL_POLE_TOL * np.abs(w)) | (w.imag > 0)
+    kept = (np.abs(w.imag) <= kernels.REAL_POLE_TOL * np.abs(w)) | (w.imag > 0)
     np.testing.assert_allclose(z, w[kept], rtol=1e-14)
     np.testing.assert_allclose(shapes, output @ psi[:, kept], rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(histories, np.linalg.inv(psi)[kept] @ states, rtol=1e-10, atol=1e-10)
@@ -369,7 +370,7 @@ def test_real_pole_test_is_relative_to_the_modulus():
     and 20 and 25 (far outside). The half-tolerance pairs are two real poles
     each, with conjugate shapes; the others one complex pole, as
     numpy.linalg.eig and the inverse of its eigenvectors give them."""
-    tol = era_module.REAL_POLE_TOL
+    tol = kernels.REAL_POLE_TOL
     blocks = [(0.05, 0.5 * tol), (0.06, 2 * tol), (20.0, 0.5 * tol), (25.0, 2 * tol)]
     phi = np.zeros((8, 8))
     for i, (r, sin) in enumerate(blocks):

@@ -8,7 +8,7 @@ import scipy.linalg
 from scipy.integrate import solve_ivp
 
 import modal
-from modal.experiment import (
+from modal.structures._shake_test import (
     foh_modal_response,
     force_burst,
     pick_peaks,
@@ -16,7 +16,7 @@ from modal.experiment import (
     shake_test,
     sharpness,
 )
-from modal.grid import Grid
+from modal.structures._grid import Grid
 
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import modal
-from modal.experiment import foh_modal_response
+from modal.structures._shake_test import foh_modal_response
 
 PALISADEN = Path(__file__).parent / "data" / "palisaden_20hz_30min.npy"
 PALISADEN_MODES_HZ = [1.88, 2.42, 2.68]  # pyOMA2 documentation (see tests/data/PALISADEN.md)
@@ -203,7 +203,8 @@ def _per_order_reference(data, dt, max_order, rows, criteria):
     """The stabilisation diagram the straightforward way: ``realise`` at each
     order from the truncated decomposition, each order's poles compared with
     the previous order's through the whole MAC matrix."""
-    from modal.era import decompose, realise
+    from modal.identification._era import realise
+    from modal.identification._era_kernels import decompose
 
     y = data if data.ndim == 3 else data[None]
     m, n_samples, l = y.shape
@@ -280,7 +281,7 @@ def test_free_response_growth_of_a_known_envelope():
     """Whole periods of a sine with amplitude a_i in window i (4 periods each):
     the window energies are a_i^2 / 2, so the statistic is the sum of their
     rises over the first: (4 - 1) + (9 - 1) = 11."""
-    from modal.result import free_response_growth
+    from modal.identification._result import free_response_growth
 
     dt, f = 0.01, 2.5  # 40 samples per period, windows of 160 samples
     amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
@@ -298,7 +299,7 @@ def test_free_decays_do_not_warn_free_response(zeta, eta):
     """Impulse responses of the beam off the thesis geometry (sensors at
     SENSORS_X, impact at 0.37 L), undamped to 5 % damping, noise to 5 %:
     no method calls them ambient, and the statistic stays far below 1."""
-    from modal.result import free_response_growth
+    from modal.identification._result import free_response_growth
 
     n = 3
     omega = BEAM.natural_frequencies(n)
@@ -317,7 +318,7 @@ def test_a_mode_near_nyquist_is_not_mistaken_for_growth():
     """Sampled, an undamped mode at 0.99 of the Nyquist frequency beats with
     period 100 samples (its energy oscillates at 2 omega dt, folded to 0.02
     pi): windows of 8 such beats hold a constant energy, so no warning."""
-    from modal.result import free_response_growth
+    from modal.identification._result import free_response_growth
 
     k = np.arange(2000)
     y = np.column_stack([np.cos(0.99 * np.pi * k), 0.5 * np.cos(0.99 * np.pi * k + 1)])
@@ -329,7 +330,7 @@ def test_ambient_records_warn_free_response():
     """White-noise-driven beam response and the Palisaden record: TCM, CERA
     and ERA on the raw record warn, naming the remedy; ERA on the NExT
     correlation functions of the same record (a free decay) does not."""
-    from modal.result import free_response_growth
+    from modal.identification._result import free_response_growth
 
     acc, dt, f_exact = ambient_beam(duration_s=30, seed=7)
     assert free_response_growth(acc[None], dt, 2 * np.pi * f_exact) > 3
@@ -358,7 +359,7 @@ def test_mean_spectrum_equals_the_direct_sum(n):
     """The spectrum behind the diagram (one long FFT of the summed
     autocorrelation when the padding allows) equals the root mean square of
     every series' tapered, zero-padded amplitude spectrum."""
-    from modal.stabilisation import _mean_spectrum
+    from modal.identification._stabilisation import _mean_spectrum
 
     y = np.random.default_rng(n).standard_normal((3, n, 2)) * np.array([1.0, 30.0])
     freqs, spectrum = _mean_spectrum(y, 0.01)
@@ -398,7 +399,7 @@ def test_free_response_growth_edge_cases_exact():
     all is silent), and no numpy warning escapes."""
     import warnings
 
-    from modal.result import free_response_growth
+    from modal.identification._result import free_response_growth
 
     dt, f = 0.01, 2.5
     t = dt * np.arange(160)
@@ -441,7 +442,7 @@ def test_warn_not_free_response_threshold_and_lowest_frequency():
     import warnings
     from types import SimpleNamespace
 
-    from modal.result import free_response_growth, warn_not_free_response
+    from modal.identification._result import free_response_growth, warn_not_free_response
 
     dt = 0.01
     exactly_one = _alternating([1, 0, 1, 0, 0, 0, 0, 0], 2)  # rises: 1 over a first energy of 1
@@ -460,7 +461,7 @@ def test_warn_not_free_response_threshold_and_lowest_frequency():
 
 def test_paired_mac_is_the_diagonal_of_mac():
     """paired_mac(a, b) is diag(mac(a, b)) for columns of any norms."""
-    from modal.indicators import mac, paired_mac
+    from modal.identification._indicators import mac, paired_mac
 
     rng = np.random.default_rng(3)
     a = rng.normal(size=(5, 4)) * np.array([1.0, 3.0, 0.2, 7.0])
@@ -472,7 +473,7 @@ def test_paired_mac_is_the_diagonal_of_mac():
 def test_stability_criteria_bounds_and_names():
     """StabilityCriteria accepts the closed bounds (mac_min = 1, min_poles = 1)
     and refuses the rest naming the argument."""
-    from modal.stabilisation import StabilityCriteria
+    from modal.identification._stabilisation import StabilityCriteria
 
     assert StabilityCriteria(mac_min=1.0, mpc_min=1.0, mamc_min=0.0, min_poles=1).mac_min == 1.0
     for kwargs, name in [({"freq_rtol": 0.0}, "freq_rtol"), ({"cluster_distance": -1.0}, "cluster_distance"),
@@ -485,7 +486,7 @@ def test_stability_criteria_bounds_and_names():
 def test_stability_of_a_single_pole():
     """A table of one pole (the lowest order) has nothing to compare with:
     not stable, and no index past the table."""
-    from modal.stabilisation import StabilityCriteria, _stability
+    from modal.identification._stabilisation import StabilityCriteria, _stability
 
     table = {"order": np.array([2]), "freq_hz": np.array([1.5]), "damping": np.array([0.01])}
     flags = _stability(table, np.ones((1, 3)), StabilityCriteria())
@@ -507,7 +508,7 @@ def test_select_modes_on_a_known_pole_table():
     modes numbered 1, 2, ... by frequency, with the members' mean and sample
     (ddof=1) standard deviation, and the medoid's shape (the member closest,
     in total, to the other members of its cluster)."""
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     e = np.eye(3)
     a = [e[0] + [0, 1e-4 * i, 0] for i in range(3)]  # near-identical shapes, told apart by index
@@ -532,7 +533,7 @@ def test_select_modes_on_a_known_pole_table():
 def test_select_modes_needs_min_poles_candidates(n_poles, min_poles, n_modes):
     """Exactly min_poles (at least 2) coincident poles make a mode; fewer make
     none, and then the shapes are an empty (n_channels, 0) array."""
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0] * n_poles, [[1.0, 2.0, 0.0, 1.0]] * n_poles)
     labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=min_poles)
@@ -543,12 +544,12 @@ def test_select_modes_needs_min_poles_candidates(n_poles, min_poles, n_modes):
 def test_select_modes_without_a_large_enough_cluster():
     """Three candidates in three distant clusters, min_poles 3: no mode, and
     the shapes are an empty (n_channels, 0) array."""
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0, 2.0, 3.0], [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
     assert modes.empty and reps.shape == (2, 0) and not labels.any()
-    from modal.stabilisation import MODE_COLUMNS
+    from modal.identification._stabilisation import MODE_COLUMNS
 
     assert list(modes.columns) == list(MODE_COLUMNS) and all(modes.dtypes == float)
 
@@ -568,7 +569,7 @@ def _hand_made_diagram():
     at 2, 5 (= fmax) and 6 Hz; a spectrum on a 0.5 Hz grid up to 10 Hz."""
     import pandas as pd
 
-    from modal.stabilisation import Stabilisation
+    from modal.identification._stabilisation import Stabilisation
 
     poles = pd.DataFrame({"order": [2, 2, 4, 4, 6, 6], "freq_hz": [1.0, 2.0, 2.0, 3.0, 5.0, 6.0],
                           "stable": [False, True, True, False, True, True], "mode": [0, 0, 1, 0, 2, 3]})
@@ -588,7 +589,7 @@ def test_stabilisation_figure_draws_each_group_up_to_fmax():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from modal.stabilisation import stabilisation_figure
+    from modal.measured import stabilisation_figure
 
     result = _hand_made_diagram()
     fig, ax = plt.subplots()
@@ -649,7 +650,7 @@ def test_stabilisation_stops_at_the_numerical_rank():
     assert [str(w.message) for w in caught] == [
         "H(0) has numerical rank 1: orders above it are not computed",
         "no stable physical poles cluster into a mode: raise max_order or rows, or relax the criteria"]
-    from modal.stabilisation import MODE_COLUMNS, POLE_COLUMNS
+    from modal.identification._stabilisation import MODE_COLUMNS, POLE_COLUMNS
 
     assert list(result.poles.columns) == POLE_COLUMNS + ["physical", "mode"] and result.poles.empty
     assert result.poles["order"].dtype.kind == "i" and result.poles["mode"].dtype.kind == "i"
@@ -714,9 +715,9 @@ def test_stabilisation_quality_criteria_and_outputs(monkeypatch):
     import sys
     import warnings
 
-    from modal.stabilisation import _mean_spectrum
+    from modal.identification._stabilisation import _mean_spectrum
 
-    stab_module = sys.modules["modal.stabilisation"]
+    stab_module = sys.modules["modal.identification._stabilisation"]
     seen = []
     real_select = stab_module._select_modes
     monkeypatch.setattr(stab_module, "_select_modes",
@@ -771,7 +772,7 @@ def _spy_on_stabilisation(monkeypatch):
         calls.append(dict(data=data, dt=dt, max_order=max_order, rows=rows, **kwargs))
         return "diagram"
 
-    monkeypatch.setattr(sys.modules["modal.stabilisation"], "stabilisation", spy)
+    monkeypatch.setattr(sys.modules["modal.measured._pipeline"], "stabilisation", spy)
     return calls
 
 
@@ -854,7 +855,7 @@ def test_mean_spectrum_of_a_spectral_null_is_zero_not_nan():
     the power there at -2e-16, which must read as 0, not as NaN."""
     import warnings
 
-    from modal.stabilisation import _mean_spectrum
+    from modal.identification._stabilisation import _mean_spectrum
 
     taper = np.hanning(12)[6:]
     y = np.zeros((1, 6, 1))
@@ -871,7 +872,7 @@ def test_select_modes_joins_groups_by_average_linkage():
     0.0098 and 0.0196), cluster distance 0.012: 1.01 and 1.02 Hz join; 1.00
     Hz is 0.0147 from them on average, so it stays out (single linkage, or a
     distance matrix shrunk by 2/3, would join all three)."""
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0, 1.01, 1.02], [[1.0, 2.0]] * 3)
     labels, modes, _ = _select_modes(poles, pole_shapes, cluster_distance=0.012, min_poles=2)
@@ -884,7 +885,7 @@ def test_select_modes_numbers_modes_by_mean_frequency():
     grows with the number of poles: five poles near 1 Hz are mode 1 and two
     near 2 Hz mode 2 (the sums, 5 and 4 Hz, or sums times counts, 25 and 8,
     would order them the other way)."""
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     freqs = [2.0, 2.001, 1.0, 1.001, 0.999, 1.0005, 0.9995]
     shapes = [[0.0, 1.0, 1.0]] * 2 + [[1.0, 0.0, 0.5]] * 5
@@ -902,7 +903,7 @@ def test_select_modes_one_pole_modes_have_nan_spread_silently():
     their means and shapes are the poles' own."""
     import warnings
 
-    from modal.stabilisation import _select_modes
+    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([3.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
     with warnings.catch_warnings():

@@ -326,9 +326,9 @@ def path_problems(config: Mapping) -> list[str]:
 
 
 def measured_problems(key: str, spec: Mapping) -> list[str]:
-    """Open one record of the ``measured`` list (:func:`modal.io.read_record`)
+    """Open one record of the ``measured`` list (:func:`modal.read_record`)
     and check its channel and reference choices, before any job runs."""
-    from ..io import read_record
+    from ..records import read_record
 
     if not Path(spec["path"]).is_file():
         return [f"{key}.path = {spec['path']!r}: no such file (relative to {Path.cwd()})"]
@@ -396,10 +396,10 @@ def case_problems(config: Mapping) -> list[str]:
 
 
 def record_problems(grid: Mapping) -> list[str]:
-    """Open the measured record (:func:`modal.io.load_record`) and check it
+    """Open the measured record (:func:`modal.load_record`) and check it
     against ``grid.test`` (n_samples, fs) and the channel choices, before any
     job runs."""
-    from ..io import load_record
+    from ..records import load_record
 
     measured = grid["measured"]
     key = "grid.measured.path"

@@ -11,16 +11,16 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from ..era import era
-from ..experiment import pick_peaks, select_sharpest, sharpness, shake_test
-from ..grid import Grid
-from ..io import load_record
-from ..result import FLAGS
+from ..identification import era
+from ..structures import pick_peaks, select_sharpest, sharpness, shake_test
+from ..structures import Grid
+from ..records import load_record
+from ..identification import FLAGS
 from ..signals import lowpass_fft, split_record
 from .chunks import chunk_seeds
 from .study import flags_recorded
 from .tables import aggregate, decimals, inclusion_holds, match_to_reference, published_estimates
-from ..tcm import tcm
+from ..identification import tcm
 
 
 @dataclass(frozen=True)
@@ -58,9 +58,9 @@ def grid_records(spec: Mapping, chunk: int | None = None) -> dict[int, GridRecor
 
     ``spec["source"] == "virtual"``: one virtual shaking test per seed
     ``seeds.first ...`` (force burst and sensor noise from that seed,
-    :func:`modal.experiment.shake_test`), or per seed of chunk number
+    :func:`modal.shake_test`), or per seed of chunk number
     ``chunk`` (:func:`modal.thesis.chunks.seed_chunks`). ``"measured"``: the
-    single record at ``spec["measured"]["path"]`` (:func:`modal.io.load_record`),
+    single record at ``spec["measured"]["path"]`` (:func:`modal.load_record`),
     seed 0, in chunk 0.
     """
     if spec["source"] == "measured":

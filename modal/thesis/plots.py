@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
-from ..indicators import align_shapes
+from ..identification import align_shapes
 from ..structures import SimplySupportedBeam
 from .tables import NOISE_FREE_SEED, assign_modes, interpretation_name
 

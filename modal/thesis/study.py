@@ -14,12 +14,12 @@ from contextlib import contextmanager
 import numpy as np
 import pandas as pd
 
-from ..cera import cera
-from ..era import era
-from ..result import ModalWarning
-from ..simulate import Record, beam_impulse_response, with_noise
+from ..identification import cera
+from ..identification import era
+from ..identification import ModalWarning
+from ..structures import Record, beam_impulse_response, with_noise
 from ..structures import SimplySupportedBeam
-from ..tcm import tcm
+from ..identification import tcm
 from .chunks import chunk_seeds, study_cases
 
 SIGNAL_ORDER = {"displacement": 0, "velocity": 1, "acceleration": 2}

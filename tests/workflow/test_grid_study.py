@@ -10,9 +10,9 @@ import yaml
 
 import modal
 import modal.thesis.grid_study as gs
-from modal.experiment import shake_test
-from modal.grid import Grid
-from modal.io import save_record_npz, write_uff58
+from modal.structures._shake_test import shake_test
+from modal.structures._grid import Grid
+from modal.records._io import save_record_npz, write_uff58
 from workflow_run import ROOT
 
 CONFIG = yaml.safe_load((ROOT / "config/config.yaml").read_text())

@@ -47,7 +47,9 @@ def code(*names):
 
 # The engine: every top-level module of modal (numerics, no thesis layer).
 ENGINE = sorted(
-    os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
+    os.path.relpath(p)
+    for p in (Path(workflow.basedir) / "modal").rglob("*.py")
+    if "thesis" not in p.parts
 )
 # A thesis module's list holds the thesis modules it imports (study.py imports
 # chunks.py; grid_study.py and intermediates.py import study.py).
@@ -61,7 +63,7 @@ TABLE_CODE = STUDY_CODE + code(
     "modal/thesis/intermediates.py",
 )
 GRID_TABLE_CODE = (
-    code("modal/grid.py")
+    code("modal/structures/_grid.py")
     + GRID_CODE
     + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
 )
@@ -69,11 +71,11 @@ PLOT_CODE = STUDY_CODE + code(
     "modal/thesis/plots.py",
     "modal/thesis/tables.py",
     "modal/thesis/intermediates.py",
-    "modal/indicators.py",
-    "modal/structures.py",
-    "modal/signals.py",
+    "modal/identification/_indicators.py",
+    "modal/structures/_beam.py",
+    "modal/signals/_filters.py",
 )
-GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
+GRID_PLOT_CODE = PLOT_CODE + code("modal/structures/_grid.py", "modal/thesis/grid_study.py")
 CHUNK_CODE = code("modal/thesis/__init__.py", "modal/thesis/chunks.py")
 SUMMARY_CODE = TABLE_CODE
 # The notebooks draw figures and 01 recomputes a case through the engine.

@@ -1,23 +1,18 @@
 """One measured record -> modes.csv, poles.csv and the stabilisation diagram
-(the same files as `modal identify`)."""
-from argparse import Namespace
+(the same files as `modal identify`: modal.write_identification)."""
 from pathlib import Path
 
 from _helpers import mock_snakemake, start_job
 
-from modal.cli import identify
+import modal
 
 if "snakemake" not in globals():
     snakemake = mock_snakemake("measured_identify", name="palisaden")
 start_job(snakemake)
 spec = snakemake.params.spec
-args = Namespace(
-    path=Path(snakemake.input.record), fs=spec.get("fs"), channels=spec.get("channels"), refs=spec.get("refs"),
-    ambient=spec["excitation"] == "ambient", free_decay=spec["excitation"] == "free_decay",
-    fmax=spec.get("fmax"), max_order=spec.get("max_order", 60), rows=spec.get("rows"),
-    highpass=spec.get("highpass_hz"), delimiter=None, decimal=".", skip_rows=0,
-    out=Path(snakemake.output.modes).parent, quiet=False,
+record = modal.read_record(snakemake.input.record, spec.get("fs"))
+modal.write_identification(
+    record, Path(snakemake.output.modes).parent, spec["excitation"], channels=spec.get("channels"),
+    refs=spec.get("refs"), max_order=spec.get("max_order", 60), fmax=spec.get("fmax"), rows=spec.get("rows"),
+    highpass_hz=spec.get("highpass_hz"), title=Path(snakemake.input.record).name, log=print,
 )
-code = identify(args)
-if code != 0:
-    raise SystemExit(f"modal identify failed with exit code {code}: see {snakemake.log[0]}")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
-from ._checks import finite_array, positive_float, positive_int
+from .._checks import finite_array, positive_float, positive_int
 
 
 def integrate_acceleration(acc, dt) -> np.ndarray:

@@ -20,11 +20,12 @@ import numpy as np
 import pandas as pd
 import scipy.fft
 
-from ._checks import nonnegative_float, positive_float, positive_int, records
-from .era import complex_poles, decompose, pole_indicators, real_eigensystem, realisation
-from .hankel import hankel
-from .indicators import mac, paired_mac
-from .result import ModalWarning
+from .._checks import nonnegative_float, positive_float, positive_int, records
+from ._era import pole_indicators, realisation
+from ._era_kernels import complex_poles, decompose, real_eigensystem
+from ._hankel import hankel
+from ._indicators import mac, paired_mac
+from ._result import ModalWarning
 
 POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                 "stable_freq", "stable_damping", "stable_shape", "stable"]
@@ -113,7 +114,9 @@ class Stabilisation:
     criteria: StabilityCriteria = field(default_factory=StabilityCriteria)
 
     def plot(self, fmax=None, title=None, ax=None):
-        """The stabilisation diagram; see :func:`stabilisation_figure`."""
+        """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""
+        from ..measured import stabilisation_figure  # matplotlib only when drawn
+
         return stabilisation_figure(self, fmax=fmax, title=title, ax=ax)
 
 
@@ -361,155 +364,3 @@ def _mean_spectrum(y, dt, min_bins=4096):
     else:
         power = np.sum(np.abs(scipy.fft.rfft(x, n=n_fft, axis=0)) ** 2, axis=1)
     return scipy.fft.rfftfreq(n_fft, dt), np.sqrt(power / (m * l)) / n
-
-
-def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None):
-    """Stabilisation diagram: poles by model order over frequency, with the
-    data's spectrum (log scale, right axis) behind them.
-
-    Grey dots: every pole; blue: stable (frequency, damping and shape);
-    filled red: stable and physical, clustered into a mode; vertical lines:
-    the selected modes. Imports matplotlib only when called.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    import matplotlib.pyplot as plt
-
-    if not isinstance(result, Stabilisation):
-        raise ValueError(f"result must be a Stabilisation, got {type(result).__name__}")
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(8, 4.5), layout="constrained")
-    else:
-        fig = ax.figure
-    fmax = float(result.spectrum_hz[-1]) if fmax is None else positive_float("fmax", fmax)
-    poles = result.poles
-    spectrum_ax = ax.twinx()
-    band = result.spectrum_hz <= fmax
-    spectrum_ax.semilogy(result.spectrum_hz[band], result.spectrum[band], color="0.75", lw=1, zorder=0)
-    spectrum_ax.set_ylabel("amplitude spectrum")
-    spectrum_ax.set_yticks([])
-    ax.set_zorder(spectrum_ax.get_zorder() + 1)
-    ax.patch.set_visible(False)
-    shown = poles["freq_hz"] <= fmax
-    groups = [
-        (shown, dict(color="0.6", marker=".", s=4, label="pole")),
-        (shown & poles["stable"], dict(color="tab:blue", marker="o", s=10, facecolors="none", label="stable")),
-        (shown & (poles["mode"] > 0), dict(color="tab:red", marker="o", s=12, label="in a mode")),
-    ]
-    for mask, style in groups:
-        ax.scatter(poles.loc[mask, "freq_hz"], poles.loc[mask, "order"], **style)
-    for f in result.modes["freq_hz"]:
-        if f <= fmax:
-            ax.axvline(f, color="tab:red", lw=0.6, alpha=0.5)
-    ax.set_xlim(0, fmax)
-    ax.set_xlabel("frequency (Hz)")
-    ax.set_ylabel("model order")
-    ax.legend(loc="upper left", fontsize="small", framealpha=0.9)
-    if title:
-        ax.set_title(title)
-    return fig
-
-
-EXCITATIONS = ("ambient", "free_decay")
-
-
-def identify_record(
-    acc,
-    dt,
-    excitation,
-    max_order=60,
-    fmax=None,
-    rows=None,
-    refs=None,
-    highpass_hz=None,
-    criteria: StabilityCriteria | None = None,
-    log: Callable[[str], None] | None = None,
-    progress: Callable[[int, int], None] | None = None,
-) -> tuple[Stabilisation, float]:
-    """Modes of a measured record, as ``modal identify`` finds them.
-
-    Steps: remove a linear trend (:func:`detrend`); with ``fmax``, decimate
-    (:func:`decimate`) by ``q = floor(fs / (2.5 fmax))`` so that the
-    anti-aliasing filter passes ``fmax``; optionally high-pass
-    (:func:`zero_phase_filter`). Then
-
-    - ``"ambient"``: NExT correlation functions (:func:`modal.correlations`,
-      biased) with ``2 rows + 1`` lags, one data set per reference, are the
-      ERA data;
-    - ``"free_decay"``: the record from its impact on
-      (:func:`modal.decay_start`) is.
-
-    :func:`stabilisation` with ``rows`` block rows and as many columns as the
-    data allow (free decay: at most ``10 rows``, the decay is then long gone
-    into noise for lightly damped structures sampled at ``2.5 fmax``).
-
-    Parameters
-    ----------
-    acc : array_like, shape (n_samples, n_channels)
-    dt : float
-        Sampling interval (s).
-    excitation : {"ambient", "free_decay"}
-    max_order : int
-        Largest model order (even).
-    fmax : float, optional
-        Highest frequency of interest (Hz).
-    rows : int, optional
-        Block rows; default ``max(60, ceil(2 max_order / n_channels))`` so
-        ``H(0)`` has at least twice ``max_order`` rows.
-    refs : sequence of int, optional
-        Reference channels of the correlations (ambient); default all.
-    highpass_hz : float, optional
-    criteria : StabilityCriteria, optional
-    log : callable, optional
-        Receives one line per step (for progress messages).
-    progress : callable, optional
-        Passed to :func:`stabilisation`.
-
-    Returns
-    -------
-    result : Stabilisation
-    dt : float
-        The sampling interval after decimation.
-    """
-    from .correlation import correlations
-    from .signals import decay_start, decimate, detrend, zero_phase_filter
-
-    log = log or (lambda message: None)
-    if excitation not in EXCITATIONS:
-        raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
-    y = detrend(acc)
-    dt = positive_float("dt", dt)
-    max_order = positive_int("max_order", max_order, minimum=2)
-    n_channels = y.shape[1]
-    rows = max(60, math.ceil(2 * max_order / n_channels)) if rows is None else positive_int("rows", rows)
-    if fmax is not None:
-        fmax = positive_float("fmax", fmax)
-        if fmax >= 0.5 / dt:
-            raise ValueError(f"fmax = {fmax} Hz must be below the Nyquist frequency {0.5 / dt:g} Hz")
-        factor = int(1 / (dt * 2.5 * fmax))
-        if factor >= 2:
-            log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
-            y, dt = decimate(y, dt, factor)
-    if highpass_hz is not None:
-        log(f"high-pass at {highpass_hz:g} Hz")
-        y = zero_phase_filter(y, dt, highpass_hz=highpass_hz)
-    if excitation == "ambient":
-        n_lags = 2 * rows + 1
-        if n_lags > y.shape[0] // 2:
-            raise ValueError(f"rows = {rows} needs {n_lags} lags, more than half the {y.shape[0]}-sample record: "
-                             "reduce rows or give a longer record")
-        log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
-        data, start, cols = correlations(y, n_lags, refs=refs), 0, None
-    else:
-        start = decay_start(y)
-        log(f"free decay from sample {start} (t = {start * dt:.4g} s)")
-        data = y
-        cols = min(y.shape[0] - start - rows, 10 * rows)
-        if cols < 1:
-            raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
-    log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
-    result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
-                           progress=progress)
-    return result, dt

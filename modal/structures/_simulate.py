@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._checks import finite_array, nonnegative_float, positive_float, positive_int
+from .._checks import finite_array, nonnegative_float, positive_float, positive_int
 
 
 @dataclass(frozen=True)
@@ -47,20 +47,62 @@ class Record:
 
 
 def damping_ratios(damping, n_modes: int) -> np.ndarray:
-    """Broadcast a modal damping ratio (one value or one per mode) to ``n_modes``."""
+    """Modal damping ratio per mode from one value or a list; modes beyond
+    the list take its last value (a list longer than ``n_modes`` is cut).
+
+    Raises ``ValueError`` unless every ratio satisfies ``0 <= zeta < 1``.
+    """
     zeta = np.atleast_1d(np.asarray(damping, dtype=float))
-    if zeta.ndim != 1 or zeta.size not in (1, n_modes):
-        raise ValueError(f"damping must be one value or {n_modes} values, got {zeta.size}")
+    if zeta.ndim != 1 or zeta.size == 0:
+        raise ValueError(f"damping must be a number or a list of numbers, got {damping!r}")
     if not np.all(np.isfinite(zeta)) or np.any(zeta < 0) or np.any(zeta >= 1):
         raise ValueError(f"damping ratios must satisfy 0 <= zeta < 1, got {zeta.tolist()}")
-    return np.broadcast_to(zeta, (n_modes,)).copy()
+    if zeta.size >= n_modes:
+        return zeta[:n_modes].copy()
+    return np.concatenate([zeta, np.full(n_modes - zeta.size, zeta[-1])])
+
+
+def free_decay(omega, damping, x0, t):
+    """Closed-form free response of each mode from ``x0 = (q0, v0)`` at ``t = 0``.
+
+    ``q_r(t) = exp(-zeta_r omega_r t) (q0 cos(omega_d t) + (v0 + zeta_r omega_r q0) / omega_d sin(omega_d t))``
+    with ``omega_d = omega_r sqrt(1 - zeta_r^2)`` (Eq. 8 without force); an
+    impulse ``f_r`` at ``t = 0`` is the initial velocity ``v0 = f_r``
+    (:func:`impulse_response`).
+
+    Parameters
+    ----------
+    omega, damping : array_like, shape (n_modes,)
+        Natural frequencies (rad/s) and modal damping ratios.
+    x0 : array_like, shape (n_modes, 2)
+        Initial modal displacement and velocity.
+    t : array_like
+        Times (s).
+
+    Returns
+    -------
+    q, v, a : ndarray, shape (len(t), n_modes)
+    """
+    omega = np.atleast_1d(np.asarray(omega, dtype=float))
+    zeta = np.broadcast_to(np.asarray(damping, dtype=float), omega.shape)
+    q0, v0 = np.asarray(x0, dtype=float).T
+    sigma = zeta * omega
+    wd = omega * np.sqrt(1 - zeta**2)
+    t = np.asarray(t, dtype=float)[:, None]
+    e = np.exp(-sigma * t)
+    c, s = np.cos(wd * t), np.sin(wd * t)
+    q = e * (q0 * c + (v0 + sigma * q0) / wd * s)
+    v = e * (v0 * c - (sigma * v0 + omega**2 * q0) / wd * s)
+    a = -(omega**2) * q - 2 * sigma * v
+    return q, v, a
 
 
 def impulse_response(omega, shapes_at_sensors, modal_impulse, dt, n_samples, damping=0.0) -> Record:
     """Response to a unit impulse at t = 0 by modal superposition.
 
     Each modal coordinate obeys ``u_r'' + 2 zeta_r omega_r u_r' + omega_r^2 u_r = f_r delta(t)``
-    (Eq. 8 with modal damping ratio ``zeta_r``), so for t >= 0+
+    (Eq. 8 with modal damping ratio ``zeta_r``): a free decay from rest with
+    initial velocity ``f_r`` (:func:`free_decay`), so for t >= 0+
 
     ``u_r(t) = f_r / omega_d exp(-zeta_r omega_r t) sin(omega_d t)``,
     ``omega_d = omega_r sqrt(1 - zeta_r^2)``,
@@ -98,14 +140,7 @@ def impulse_response(omega, shapes_at_sensors, modal_impulse, dt, n_samples, dam
     zeta = damping_ratios(damping, n_modes)
 
     t = dt * np.arange(n_samples)
-    sigma = zeta * omega
-    wd = omega * np.sqrt(1 - zeta**2)
-    decay = np.exp(-np.outer(t, sigma))
-    s, c = np.sin(np.outer(t, wd)), np.cos(np.outer(t, wd))
-    u = decay * s * (f / wd)
-    v = decay * (c - (sigma / wd) * s) * f
-    # u'' = -omega^2 u - 2 zeta omega u'
-    a = -(omega**2) * u - 2 * sigma * v
+    u, v, a = free_decay(omega, zeta, np.column_stack([np.zeros(n_modes), f]), t)
     return Record(
         t=t,
         displacement=u @ shapes.T,

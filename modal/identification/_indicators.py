@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import finite_array
+from .._checks import finite_array
 
 
 def mac(a, b) -> np.ndarray:

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._checks import finite_array, positive_float, positive_int
+from .._checks import finite_array, positive_float, positive_int
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import positive_int, records
+from .._checks import positive_int, records
 
 
 def hankel(y: np.ndarray, rows: int, cols: int, start: int = 0) -> np.ndarray:

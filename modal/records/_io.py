@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ._checks import finite_array, positive_float
-from .result import ModalWarning
+from .._checks import finite_array, positive_float
+from ..identification._result import ModalWarning
 
 #: Relative tolerance on the uniformity of a CSV time column and on the
 #: agreement of sampling rates given twice.

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 
-from ._checks import positive_int, records
+from .._checks import positive_int, records
 
 ESTIMATORS = ("biased", "unbiased")
 

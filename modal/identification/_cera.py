@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._checks import positive_float, positive_int, records, unit_scale
-from .hankel import hankel
-from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+from .._checks import positive_float, positive_int, records, unit_scale
+from ._hankel import hankel
+from ._result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
                      warn_not_free_response)
 
 

@@ -79,7 +79,7 @@ from functools import cached_property
 import numpy as np
 import scipy.linalg
 
-from ._checks import nonnegative_float, positive_float, positive_int
+from .._checks import nonnegative_float, positive_float, positive_int
 
 def _stack(rows) -> np.ndarray:
     """``rows`` of per-element arrays -> ``(n_elements, n, n)``."""

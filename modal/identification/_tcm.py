@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from ._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
-from .result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
+from .._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
+from ._result import (ModalResult, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
                      warn_not_free_response)
-from .signals import acceleration_offset, integrate_acceleration
+from ..signals._filters import acceleration_offset, integrate_acceleration
 
 
 def correlation(a, b) -> np.ndarray:

@@ -25,10 +25,10 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg
 
-from ._checks import finite_array, nonnegative_float, positive_float, positive_int
-from .grid import Grid
-from .signals import amplitude_spectrum, lowpass_fft
-from .simulate import Record, add_noise
+from .._checks import finite_array, nonnegative_float, positive_float, positive_int
+from ._grid import Grid
+from ..signals import amplitude_spectrum, lowpass_fft
+from ._simulate import Record, add_noise, damping_ratios, free_decay
 
 
 
@@ -85,19 +85,6 @@ class ShakeTest:
         return Record(
             self.t, self.displacement, self.velocity, self.acceleration, self.dt, self.omega, self.damping, self.shapes
         )
-
-
-def modal_damping(damping, n_modes: int) -> np.ndarray:
-    """Damping ratio per mode from one value or a list; modes beyond the list
-    take its last value. Each ratio must satisfy ``0 <= zeta < 1``."""
-    zeta = np.atleast_1d(np.asarray(damping, dtype=float))
-    if zeta.ndim != 1 or zeta.size == 0:
-        raise ValueError(f"damping must be a number or a list of numbers, got {damping!r}")
-    if not np.all(np.isfinite(zeta)) or np.any(zeta < 0) or np.any(zeta >= 1):
-        raise ValueError(f"damping ratios must satisfy 0 <= zeta < 1, got {zeta.tolist()}")
-    if zeta.size >= n_modes:
-        return zeta[:n_modes].copy()
-    return np.concatenate([zeta, np.full(n_modes - zeta.size, zeta[-1])])
 
 
 def foh_matrices(omega, damping, dt):
@@ -157,27 +144,6 @@ def foh_modal_response(omega, damping, modal_force, dt, x0=None):
         states[k + 1] = x
     q, v = states[..., 0], states[..., 1]
     a = f - omega**2 * q - 2 * zeta * omega * v
-    return q, v, a
-
-
-def free_decay(omega, damping, x0, t):
-    """Closed-form free response of each mode from ``x0 = (q0, v0)`` at ``t = 0``.
-
-    Returns
-    -------
-    q, v, a : ndarray, shape (len(t), n_modes)
-    """
-    omega = np.atleast_1d(np.asarray(omega, dtype=float))
-    zeta = np.broadcast_to(np.asarray(damping, dtype=float), omega.shape)
-    q0, v0 = np.asarray(x0, dtype=float).T
-    sigma = zeta * omega
-    wd = omega * np.sqrt(1 - zeta**2)
-    t = np.asarray(t, dtype=float)[:, None]
-    e = np.exp(-sigma * t)
-    c, s = np.cos(wd * t), np.sin(wd * t)
-    q = e * (q0 * c + (v0 + sigma * q0) / wd * s)
-    v = e * (v0 * c - (sigma * v0 + omega**2 * q0) / wd * s)
-    a = -(omega**2) * q - 2 * sigma * v
     return q, v, a
 
 
@@ -284,7 +250,7 @@ def shake_test(
     omega, phi = grid.modes(n_modes, fmax_hz)
     if omega.size == 0:
         raise ValueError(f"no mode at or below fmax_hz = {fmax_hz}")
-    zeta = modal_damping(damping, omega.size)
+    zeta = damping_ratios(damping, omega.size)
     force_ss, noise_ss = np.random.SeedSequence(positive_int("seed", seed, minimum=0)).spawn(2)
 
     n_burst = max(2, int(round(burst * fs)))
