@@ -58,6 +58,7 @@ def test_readme_shows_modal_commands():
     assert any(c.startswith(".venv/bin/modal identify") for c in commands), commands
 
 
+@pytest.mark.slow  # 4-15 s: reads and identifies a 30-minute record
 @pytest.mark.parametrize("command", readme_commands(README.read_text()))
 def test_readme_command_runs_as_typed(command, tmp_path):
     """Each ``modal`` command shown in the README exits 0 and writes what it says."""
