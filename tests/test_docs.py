@@ -1,8 +1,8 @@
-"""The documentation: the site builds strictly, and the README's commands run as typed.
+"""The documentation: the site builds strictly, and the README's examples run as typed.
 
 ``mkdocs build --strict`` fails on a broken link, a missing page in the
 navigation or an API reference mkdocstrings cannot resolve. The README's
-``modal`` commands are run from a scratch folder that sees the project's
+``modal`` commands and Python examples are run from a scratch folder that sees the project's
 ``tests/`` and this interpreter's environment as ``.venv``, so they write
 nowhere in the checkout.
 """
@@ -77,3 +77,16 @@ def test_readme_command_runs_as_typed(command, tmp_path):
         for name in ["modes.csv", "poles.csv", "stabilisation.png"]:
             assert (folder / name).is_file(), name
     assert "modes" in run.stdout
+
+
+def readme_python_blocks(text: str) -> list[str]:
+    return [block for lang, block in re.findall(r"```(\w*)\n(.*?)```", text, flags=re.S) if lang == "python"]
+
+
+@pytest.mark.slow  # 5-10 s: the own-records example identifies a 30-minute record
+@pytest.mark.parametrize("block", readme_python_blocks(README.read_text()))
+def test_readme_python_runs(block, tmp_path):
+    """The README's Python examples run from the project folder as shown."""
+    (tmp_path / "tests").symlink_to(ROOT / "tests")
+    run = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, f"{block}\n{run.stderr[-3000:]}"
