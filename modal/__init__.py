@@ -20,7 +20,8 @@ import it when they are drawn.
 from .identification import (FLAGS, ModalResult, ModalWarning, Stabilisation, StabilityCriteria, align_shapes, cera,
                              decompose, era, hankel, mac, modal_amplitude_coherence, modal_phase_collinearity,
                              stabilisation, tcm)
-from .measured import identify_record, stabilisation_figure, write_identification
+from .measured import (OutputError, available_memory, identify_record, memory_needed, stabilisation_figure,
+                       write_identification)
 from .records import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
 from .signals import (acceleration_offset, amplitude_spectrum, correlations, decay_start, decimate, detrend, integrate_acceleration,
                       lowpass_fft, split_record, zero_phase_filter)
@@ -29,11 +30,12 @@ from .structures import (Grid, Record, ShakeTest, SimplySupportedBeam, add_noise
                          with_noise)
 
 __all__ = [
-    "FLAGS", "Grid", "MeasuredRecord", "ModalResult", "ModalWarning", "Record", "ShakeTest", "SimplySupportedBeam",
-    "Stabilisation", "StabilityCriteria", "acceleration_offset", "add_noise", "align_shapes", "amplitude_spectrum",
-    "beam_impulse_response", "cera", "correlations", "damping_ratios", "decay_start", "decimate", "decompose",
-    "detrend", "era", "hankel", "identify_record", "impulse_response", "integrate_acceleration", "load_record",
-    "lowpass_fft", "mac", "modal_amplitude_coherence", "modal_phase_collinearity", "pick_peaks", "read_record",
-    "save_record_npz", "select_sharpest", "shake_test", "sharpness", "split_record", "stabilisation",
-    "stabilisation_figure", "tcm", "with_noise", "write_identification", "write_uff58", "zero_phase_filter",
+    "FLAGS", "Grid", "MeasuredRecord", "ModalResult", "ModalWarning", "OutputError", "Record", "ShakeTest",
+    "SimplySupportedBeam", "Stabilisation", "StabilityCriteria", "acceleration_offset", "add_noise", "align_shapes",
+    "amplitude_spectrum", "available_memory", "beam_impulse_response", "cera", "correlations", "damping_ratios",
+    "decay_start", "decimate", "decompose", "detrend", "era", "hankel", "identify_record", "impulse_response",
+    "integrate_acceleration", "load_record", "lowpass_fft", "mac", "memory_needed", "modal_amplitude_coherence",
+    "modal_phase_collinearity", "pick_peaks", "read_record", "save_record_npz", "select_sharpest", "shake_test",
+    "sharpness", "split_record", "stabilisation", "stabilisation_figure", "tcm", "with_noise", "write_identification",
+    "write_uff58", "zero_phase_filter",
 ]

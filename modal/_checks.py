@@ -45,11 +45,14 @@ def nonnegative_float(name: str, value) -> float:
 
 def finite_array(name: str, value, ndim: tuple[int, ...]) -> np.ndarray:
     """Return ``value`` as a float array of one of the ranks ``ndim``, all finite
-    (real numbers only: booleans and complex values are refused)."""
+    (real numbers only: integer and float dtypes, or objects that are all
+    real numbers; booleans, complex values, strings, dates and durations
+    (``datetime64``, ``timedelta64``: they convert to numbers, but not to a
+    measured quantity) are refused)."""
     raw = np.asarray(value)
-    if raw.dtype.kind in "bcOUS" and not (raw.dtype.kind == "O" and raw.size and
-                                          all(isinstance(v, (int, float, np.number)) and not isinstance(v, bool)
-                                              for v in raw.ravel())):
+    if raw.dtype.kind not in "iuf" and not (raw.dtype.kind == "O" and raw.size and
+                                            all(isinstance(v, (int, float, np.integer, np.floating))
+                                                and not isinstance(v, bool) for v in raw.ravel())):
         raise ValueError(f"{name} must hold real numbers, got dtype {raw.dtype}")
     try:
         a = np.asarray(value, dtype=float)

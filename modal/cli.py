@@ -13,9 +13,32 @@ after the impact for free decay, a stabilisation diagram with automatic mode
 selection) and writes ``DIR/modes.csv``, ``DIR/poles.csv`` and
 ``DIR/stabilisation.png``.
 
-Exit codes: 0 success; 2 bad options (argparse); 3 the record cannot be read;
-4 the identification cannot run on it (too short for the settings, ...);
-5 it ran but selected no mode.
+Exit codes (one line on stderr says why; never a traceback):
+
+0
+    success;
+1
+    an internal error (a bug: please report the message);
+2
+    bad options: argparse's, and an ``--out`` that cannot hold the results,
+    found before any work (it names the input record, it is a file or a
+    device such as ``/proc/version``, it lies below a file such as
+    ``/dev/null/x``, its folder is read-only or not writable);
+3
+    the record cannot be read (not a regular file: a directory, a FIFO, a
+    device; an unknown format; non-numeric data such as dates; ...);
+4
+    the identification cannot run on it (too short for the settings, no
+    vibration in a channel, more memory than is available, ...);
+5
+    it ran but selected no mode (the message says what was found);
+6
+    the results could not be written (e.g. no space left on the device);
+    ``--out`` is then as it was before: the files are written into a hidden
+    folder beside it and moved into place only when all are complete.
+
+The mode table printed gives damping as a ratio to critical (a fraction, not
+%), as in ``modes.csv``.
 """
 
 from __future__ import annotations
@@ -23,11 +46,22 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
+from contextlib import contextmanager
 from pathlib import Path
 
+EXIT_INTERNAL = 1
+EXIT_BAD_OPTIONS = 2
 EXIT_BAD_FILE = 3
 EXIT_CANNOT_IDENTIFY = 4
 EXIT_NO_MODES = 5
+EXIT_CANNOT_WRITE = 6
+
+EPILOG = ("Exit codes: 0 done, 1 internal error, 2 bad options (also an --out that cannot hold the results: "
+          "the input file, a file or device, below a file, read-only), 3 unreadable record (also a directory, "
+          "FIFO or device), 4 identification impossible (also no vibration, or not enough memory), "
+          "5 no mode selected, 6 results not written (e.g. disk full; --out is left as it was). "
+          "Damping is printed and written as a ratio to critical (fraction, not %).")
 
 
 def _indices(text: str) -> list[int]:
@@ -59,7 +93,7 @@ def parser() -> argparse.ArgumentParser:
         "identify",
         help="modes of a record: stabilisation diagram and automatic selection",
         description="Identify the modes of a measured record (ERA on NExT correlations or on a free decay).",
-        epilog="Exit codes: 2 bad options, 3 unreadable record, 4 identification impossible, 5 no mode found.",
+        epilog=EPILOG,
     )
     cmd.add_argument("path", type=Path, help="record: .npy .npz .csv .txt .tsv .lvm .uff .unv")
     cmd.add_argument("--fs", type=_positive(float), help="sampling rate (Hz); overrides a text file's time column")
@@ -76,7 +110,8 @@ def parser() -> argparse.ArgumentParser:
     cmd.add_argument("--delimiter", help="text files: column delimiter (default: sniffed)")
     cmd.add_argument("--decimal", default=".", choices=[".", ","], help="text files: decimal mark")
     cmd.add_argument("--skip-rows", type=int, default=0, help="text files: lines to skip at the top")
-    cmd.add_argument("--out", type=Path, required=True, help="output folder (created)")
+    cmd.add_argument("--out", type=Path, required=True,
+                     help="output folder (created; its files are replaced only once all are written)")
     cmd.add_argument("--quiet", action="store_true", help="no progress messages")
     return main
 
@@ -84,6 +119,7 @@ def parser() -> argparse.ArgumentParser:
 def identify(args) -> int:
     """Run ``modal identify`` with parsed arguments; returns the exit code."""
     import modal
+    from modal.measured import OutputError, check_output
 
     def log(message):
         if not args.quiet:
@@ -93,41 +129,79 @@ def identify(args) -> int:
         if not args.quiet and (done == total or done % 10 == 0):
             log(f"  order {2 * done}/{2 * total}")
 
+    def fail(code, message):
+        print(f"modal identify: {message}", file=sys.stderr)
+        return code
+
     started = time.perf_counter()
     try:
-        record = modal.read_record(args.path, args.fs, delimiter=args.delimiter, decimal=args.decimal,
-                                   skip_rows=args.skip_rows)
-    except ValueError as exc:
-        print(f"modal identify: cannot read the record: {exc}", file=sys.stderr)
-        return EXIT_BAD_FILE
+        check_output(args.out, inputs=[args.path])
+    except OutputError as exc:
+        return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
+    try:
+        with _one_line_warnings():
+            record = modal.read_record(args.path, args.fs, delimiter=args.delimiter, decimal=args.decimal,
+                                       skip_rows=args.skip_rows)
+    except (ValueError, OSError) as exc:
+        return fail(EXIT_BAD_FILE, f"cannot read the record: {exc}")
     n_samples, n_channels = record.acc.shape
     log(f"read {args.path}: {n_samples} samples x {n_channels} channels at {record.fs:.6g} Hz")
     try:
-        result, _ = modal.write_identification(
-            record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels, refs=args.refs,
-            max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass,
-            title=args.path.name, log=log, progress=progress,
-        )
-    except ValueError as exc:
-        print(f"modal identify: {args.path}: {exc}", file=sys.stderr)
-        return EXIT_CANNOT_IDENTIFY
+        with _one_line_warnings():
+            result, _ = modal.write_identification(
+                record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels,
+                refs=args.refs, max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass,
+                title=args.path.name, log=log, progress=progress,
+            )
+    except OutputError as exc:
+        return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
+    except (ValueError, MemoryError) as exc:
+        return fail(EXIT_CANNOT_IDENTIFY, f"{args.path}: {exc or 'out of memory'}")
+    except OSError as exc:
+        return fail(EXIT_CANNOT_WRITE, f"cannot write the results to {args.out} ({exc.strerror or exc}); "
+                                       "it is left as it was")
     log(f"wrote {args.out / 'modes.csv'}, poles.csv and stabilisation.png")
     modes = result.modes
     print(f"{args.path.name}: {len(modes)} modes ({args.max_order // 2} orders, {len(result.poles)} poles)")
     if len(modes):
-        print(modes.assign(damping_pct=100 * modes["damping"])[
-            ["mode", "freq_hz", "freq_std_hz", "damping_pct", "n_poles", "mpc", "mamc"]
-        ].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        print("damping and damping_std: ratio to critical (fraction, not %), as in modes.csv")
+        print(modes[["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"]]
+              .to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
-    print("no mode selected: raise --max-order or --rows, or check --fmax", file=sys.stderr)
-    return EXIT_NO_MODES
+    return fail(EXIT_NO_MODES, f"no mode selected: {result.no_mode_reason()}")
+
+
+@contextmanager
+def _one_line_warnings():
+    """Print each distinct warning of the block as one line on stderr (no
+    source line), also when the block raises; the engine's own no-mode
+    warning is left out: the no-mode message says more."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            seen = set()
+            for w in caught:
+                text = " ".join(str(w.message).split())
+                if text in seen or text.startswith("no stable physical poles cluster into a mode"):
+                    continue
+                seen.add(text)
+                print(f"modal identify: warning: {text}", file=sys.stderr)
 
 
 def main(argv=None) -> int:
     args = parser().parse_args(argv)
-    if args.command == "identify":
+    if args.command != "identify":
+        return EXIT_BAD_OPTIONS  # unreachable: argparse requires a command
+    try:
         return identify(args)
-    return 2  # unreachable: argparse requires a command
+    except KeyboardInterrupt:
+        print("modal identify: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # the contract: a one-line message, never a traceback
+        print(f"modal identify: internal error, please report: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return EXIT_INTERNAL
 
 
 if __name__ == "__main__":

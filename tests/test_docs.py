@@ -58,7 +58,6 @@ def test_readme_shows_modal_commands():
     assert any(c.startswith(".venv/bin/modal identify") for c in commands), commands
 
 
-@pytest.mark.slow  # 4-15 s: reads and identifies a 30-minute record
 @pytest.mark.parametrize("command", readme_commands(README.read_text()))
 def test_readme_command_runs_as_typed(command, tmp_path):
     """Each ``modal`` command shown in the README exits 0 and writes what it says."""
@@ -83,7 +82,6 @@ def readme_python_blocks(text: str) -> list[str]:
     return [block for lang, block in re.findall(r"```(\w*)\n(.*?)```", text, flags=re.S) if lang == "python"]
 
 
-@pytest.mark.slow  # 5-10 s: the own-records example identifies a 30-minute record
 @pytest.mark.parametrize("block", readme_python_blocks(README.read_text()))
 def test_readme_python_runs(block, tmp_path):
     """The README's Python examples run from the project folder as shown."""

@@ -57,8 +57,9 @@ class ModalResult:
     aliased : ndarray of bool
         Possibly aliased: the frequency lies at or beyond the highest one the
         method can tell apart, ``pi / T_o`` (``T_o = lag dt`` for the TCM with a
-        lag, Eq. 30; ``dt`` for ERA and CERA), so it may be folded back from
-        above.
+        lag, Eq. 30; ``dt`` for ERA, CERA and the TCM without a lag, whose
+        ``sqrt(lambda)`` is unbounded), so it may be folded back from above
+        or belong to no sampled mode.
     short_window : ndarray of bool
         The data window holds fewer than six periods of this mode, the
         thesis's guideline ``T >= 12 pi / omega_1`` (Sec. 3.3): expect a bias.

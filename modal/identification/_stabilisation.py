@@ -113,6 +113,55 @@ class Stabilisation:
     spectrum: np.ndarray
     criteria: StabilityCriteria = field(default_factory=StabilityCriteria)
 
+    def no_mode_reason(self) -> str:
+        """Why no mode was selected, from the counts of the diagram: how many
+        poles, how many stable, how many of those physical, and the largest
+        group of candidates against the poles a mode needs; then what could
+        help in that case. Empty when modes were selected."""
+        if len(self.modes):
+            return ""
+        poles, criteria = self.poles, self.criteria
+        n_orders = poles["order"].nunique()
+        if poles.empty:
+            return ("no pole was computed (H(0) has too low a numerical rank): the data hold (almost) no "
+                    "oscillation; check the record and the channels used")
+        stable = poles["stable"].to_numpy()
+        candidates = stable & poles["physical"].to_numpy()
+        found = f"{len(poles)} poles over {n_orders} orders, {int(stable.sum())} stable"
+        if not stable.any():
+            return (f"{found}: no pole recurs from one order to the next (within {criteria.freq_rtol:.0%} in "
+                    f"frequency, {criteria.damping_rtol:.0%} in damping, MAC >= {criteria.mac_min}), as for a "
+                    "record of noise alone. What could help: check that the record holds the response of "
+                    "the structure; with a known band, --fmax (and --highpass against a drift); more samples")
+        if not candidates.any():
+            s = poles[stable]
+            with np.errstate(invalid="ignore"):
+                damping_out = ~((s["damping"] > 0) & (s["damping"] < criteria.max_damping))
+                reasons = {
+                    f"damping outside 0 ... {criteria.max_damping:.0%}": int(damping_out.sum()),
+                    f"MPC < {criteria.mpc_min}": int((s["mpc"] < criteria.mpc_min).sum()),
+                    f"MAMC < {criteria.mamc_min}": int((s["mamc"] < criteria.mamc_min).sum()),
+                    "real": int(s["real_pole"].sum()),
+                }
+            quality = ~s["real_pole"] & ~damping_out & (s["mpc"] >= criteria.mpc_min) & (s["mamc"] >= criteria.mamc_min)
+            reasons["above fmax (or the Nyquist frequency)"] = int(quality.sum())
+            why = ", ".join(f"{n} {what}" for what, n in reasons.items() if n)
+            advice = (" What could help: --fmax above them if they are modes of interest."
+                      if reasons["above fmax (or the Nyquist frequency)"] else
+                      " These are not modes of a lightly damped structure (noise or drift poles); "
+                      "--highpass removes a drift, a longer record reduces noise poles.")
+            return f"{found}, none physical ({why}).{advice}"
+        min_poles = criteria.min_poles or max(3, math.ceil(0.4 * n_orders))
+        f = np.sort(poles["freq_hz"].to_numpy()[candidates])
+        groups = np.split(f, np.flatnonzero(np.diff(f) > criteria.cluster_distance * f[1:]) + 1)
+        largest = max(groups, key=len)
+        return (f"{found}, {int(candidates.sum())} of them physical, but no cluster of them recurs at enough "
+                f"orders: the largest group (near {largest.mean():.4g} Hz) has {len(largest)} poles, a mode needs "
+                f"{min_poles} ({'set' if criteria.min_poles else '40 % of the orders'}). Noise alone gives such "
+                "scattered poles; if the record holds the structure's response, what could help: a longer "
+                "record (ambient: more averaging steadies the poles); --rows so that the Hankel matrix spans a few "
+                "periods of the lowest mode. (A higher --max-order computes more orders but also needs more.)")
+
     def plot(self, fmax=None, title=None, ax=None):
         """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""
         from ..measured import stabilisation_figure  # matplotlib only when drawn

@@ -7,11 +7,127 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
+import numpy as np
+
 from .._checks import positive_float, positive_int
 from ..identification import Stabilisation, StabilityCriteria, stabilisation
 
 
 EXCITATIONS = ("ambient", "free_decay")
+
+#: A channel whose linear trend leaves less than this fraction of its peak
+#: magnitude (rms of the remainder against the largest raw value) holds no
+#: vibration: what is left is round-off, not response. 1e-10 is 200 dB, far
+#: beyond any data acquisition (a 24-bit converter spans 144 dB) and far above
+#: double precision's 1e-16 (an exact ramp or a constant leaves ~1e-16).
+NO_VIBRATION_RTOL = 1e-10
+
+
+def no_vibration(raw, detrended) -> np.ndarray:
+    """Indices of the channels of ``raw`` (n_samples, n_channels) whose
+    ``detrended`` content is at round-off level (:data:`NO_VIBRATION_RTOL`):
+    constants, exact drifts (linear ramps), dead sensors."""
+    peak = np.max(np.abs(raw), axis=0)
+    rms = np.sqrt(np.mean(np.square(detrended), axis=0))
+    return np.flatnonzero(rms <= NO_VIBRATION_RTOL * peak)
+
+
+def _refuse_no_vibration(raw, detrended, labels) -> None:
+    dead = no_vibration(raw, detrended)
+    if dead.size:
+        rms = np.sqrt(np.mean(np.square(detrended[:, dead]), axis=0))
+        peak = np.max(np.abs(raw[:, dead]), axis=0)
+        which = ", ".join(str(labels[c]) for c in dead)
+        everything = dead.size == raw.shape[1]
+        if everything:
+            subject = "no channel holds vibration" + (f" (channels {which})" if dead.size > 1 else "")
+        else:
+            subject = f"channel {which} holds no vibration" if dead.size == 1 else \
+                f"channels {which} hold no vibration"
+        raise ValueError(
+            f"{subject}: after removing the linear "
+            f"trend what remains (rms {rms.max():.2g}) is round-off against the values (peak {peak.min():.3g}), "
+            "as for a constant, an exact drift (linear ramp) or a dead sensor"
+            + ("" if everything else "; leave it out of the channels used (--channels)"))
+
+
+def available_memory() -> int:
+    """Bytes of memory this process can still take: ``MemAvailable`` of
+    ``/proc/meminfo`` (else the physical memory), and no more than what a
+    cgroup (v2) memory limit leaves."""
+    import os
+
+    try:
+        with open("/proc/meminfo") as fh:
+            available = next(int(line.split()[1]) * 1024 for line in fh if line.startswith("MemAvailable:"))
+    except (OSError, StopIteration, ValueError, IndexError):
+        try:
+            available = os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        except (ValueError, OSError, AttributeError):
+            return 2**63 - 1  # unknown: do not refuse
+    try:
+        with open("/sys/fs/cgroup/memory.max") as fh:
+            limit = fh.read().strip()
+        if limit != "max":
+            with open("/sys/fs/cgroup/memory.current") as fh:
+                available = min(available, int(limit) - int(fh.read().strip()))
+    except (OSError, ValueError):
+        pass
+    return available
+
+
+def memory_needed(n_samples, n_channels, rows, cols, n_refs=None) -> dict:
+    """Peak bytes of the identification's large arrays (float64), by stage.
+
+    - ``correlations`` (ambient, ``n_refs`` given): ``n_refs x n_lags x
+      n_channels`` lags computed through cross-spectra of ``n_refs x bins x
+      n_channels`` complex values and their inverse FFT (:func:`modal.correlations`);
+    - ``hankel``: ``H`` of ``(rows + 1) n_channels x cols m`` (``m = n_refs``
+      data sets, or 1 for a free decay);
+    - ``svd``: the thin SVD of ``H(0)`` (``l r x m s``): LAPACK's copy of it
+      and both singular-vector matrices (the Gram route needs less, but may
+      fall back on it).
+
+    ``peak`` is the larger of the correlation stage and what is held at once
+    during the SVD (correlations, Hankel matrix, SVD).
+    """
+    import scipy.fft
+
+    m = 1 if n_refs is None else n_refs
+    parts = {}
+    corr_result = 0
+    if n_refs is not None:
+        n_lags = 2 * rows + 1
+        n_fft = scipy.fft.next_fast_len(n_samples + n_lags, real=True)
+        bins = n_fft // 2 + 1
+        corr_result = 8 * n_refs * n_lags * n_channels
+        parts["correlations"] = 16 * bins * n_channels * (1 + n_refs) + 8 * n_refs * n_fft * n_channels + corr_result
+    h_rows, h_cols = rows * n_channels, cols * m
+    parts["hankel"] = 8 * (rows + 1) * n_channels * h_cols
+    k = min(h_rows, h_cols)
+    parts["svd"] = 8 * (h_rows * h_cols + h_rows * k + k * h_cols)
+    parts["peak"] = max(parts.get("correlations", 0), corr_result + parts["hankel"] + parts["svd"])
+    return parts
+
+
+def _gb(n_bytes) -> str:
+    return f"{n_bytes / 1e9:.3g} GB" if n_bytes >= 1e8 else f"{n_bytes / 1e6:.3g} MB"
+
+
+def _refuse_beyond_memory(n_samples, n_channels, rows, cols, n_refs) -> None:
+    need = memory_needed(n_samples, n_channels, rows, cols, n_refs)
+    have = available_memory()
+    if need["peak"] > have:
+        m = 1 if n_refs is None else n_refs
+        detail = []
+        if "correlations" in need:
+            detail.append(f"correlations {n_refs} refs x {2 * rows + 1} lags x {n_channels} channels, "
+                          f"through cross-spectra: {_gb(need['correlations'])}")
+        detail.append(f"Hankel matrix {(rows + 1) * n_channels} x {cols * m}: {_gb(need['hankel'])}")
+        detail.append(f"its SVD: {_gb(need['svd'])}")
+        raise ValueError(
+            f"the identification would need about {_gb(need['peak'])} of memory ({'; '.join(detail)}), "
+            f"only {_gb(have)} available: use fewer channels or references (--channels, --refs) or fewer rows")
 
 
 def identify_record(
@@ -43,6 +159,13 @@ def identify_record(
     :func:`stabilisation` with ``rows`` block rows and as many columns as the
     data allow (free decay: at most ``10 rows``, the decay is then long gone
     into noise for lightly damped structures sampled at ``2.5 fmax``).
+
+    Refused with ``ValueError`` before the work: a channel with no vibration
+    (:func:`no_vibration`: a constant, an exact linear drift, a dead sensor:
+    otherwise round-off would yield stable-looking "modes"), and settings
+    whose arrays would not fit in the available memory
+    (:func:`memory_needed` against :func:`available_memory`; the message
+    states the sizes).
 
     Parameters
     ----------
@@ -79,6 +202,7 @@ def identify_record(
     if excitation not in EXCITATIONS:
         raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
     y = detrend(acc)
+    _refuse_no_vibration(np.asarray(acc, dtype=float), y, range(y.shape[1]))
     dt = positive_float("dt", dt)
     max_order = positive_int("max_order", max_order, minimum=2)
     n_channels = y.shape[1]
@@ -99,6 +223,8 @@ def identify_record(
         if n_lags > y.shape[0] // 2:
             raise ValueError(f"rows = {rows} needs {n_lags} lags, more than half the {y.shape[0]}-sample record: "
                              "reduce rows or give a longer record")
+        n_refs = n_channels if refs is None else len(refs)
+        _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs)
         log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
         data, start, cols = correlations(y, n_lags, refs=refs), 0, None
     else:
@@ -108,6 +234,7 @@ def identify_record(
         cols = min(y.shape[0] - start - rows, 10 * rows)
         if cols < 1:
             raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
+        _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None)
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
                            progress=progress)
@@ -122,11 +249,21 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     :func:`identify_record` on the chosen channels, then
 
     - ``out/modes.csv``: one row per selected mode (``mode``, ``freq_hz``,
-      ``freq_std_hz``, ``damping`` as a ratio, ``damping_std``, ``n_poles``,
-      ``mpc``, ``mamc``) and its shape, one column ``phi_<channel>`` per
-      channel (the record's channel numbers);
+      ``freq_std_hz``, ``damping`` and ``damping_std`` as ratios to critical
+      (fractions, not %), ``n_poles``, ``mpc``, ``mamc``) and its shape, one
+      column per channel: ``phi_<name>`` when the record names its channels
+      (a CSV header, ``.lvm`` or UFF names: ``record.channels["name"]``),
+      else ``phi_<number>`` (the record's 0-based channel numbers; so too when
+      names repeat or are the reader's placeholders ``ch1``, ``ch2``, ...);
     - ``out/poles.csv``: every pole of the diagram;
     - ``out/stabilisation.png``: the diagram (:func:`stabilisation_figure`).
+
+    The folder is complete or untouched: ``out`` is checked first
+    (:func:`check_output`: not the record itself, not a file or device, on a
+    writable file system), the files are written into a hidden folder beside
+    it, and moved into place only when all are written. A failure part-way
+    (a full disk, an error) leaves a previous ``out`` as it was and no
+    partial file; other files in an existing ``out`` are left alone.
 
     Parameters
     ----------
@@ -150,8 +287,21 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     result : Stabilisation
     dt : float
         The sampling interval after decimation.
+
+    Raises
+    ------
+    OutputError
+        (a ``ValueError``) ``out`` cannot hold the results; raised before
+        any computation.
+    ValueError
+        Bad arguments, or identification impossible (:func:`identify_record`).
+    OSError
+        Writing failed part-way (e.g. no space left); ``out`` is untouched.
     """
     from pathlib import Path
+
+    from ..signals import detrend
+    from ._output import check_output, staged_folder
 
     n_channels = record.acc.shape[1]
     channels = list(range(n_channels)) if channels is None else [int(c) for c in channels]
@@ -164,17 +314,38 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
         refs = [channels.index(r) for r in refs]
     if max_order % 2:
         raise ValueError(f"max_order must be even, got {max_order}")
-    result, dt = identify_record(record.acc[:, channels], record.dt, excitation, max_order=max_order, fmax=fmax,
-                                 rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress)
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    modes = result.modes.copy()
-    for c, channel in enumerate(channels):
-        modes[f"phi_{channel}"] = result.shapes[c] if len(modes) else []
-    modes.to_csv(out / "modes.csv", index=False, float_format="%.6g")
-    result.poles.to_csv(out / "poles.csv", index=False, float_format="%.6g")
-    from ._figures import stabilisation_figure
+    out = check_output(out, inputs=[record.path] if getattr(record, "path", None) else [])
+    acc = record.acc[:, channels]
+    _refuse_no_vibration(acc, detrend(acc), channels)  # named in the record's channel numbers
+    columns = shape_columns(record, channels)
+    with staged_folder(out) as staging:
+        result, dt = identify_record(acc, record.dt, excitation, max_order=max_order, fmax=fmax,
+                                     rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress)
+        modes = result.modes.copy()
+        for c, column in enumerate(columns):
+            modes[column] = result.shapes[c] if len(modes) else []
+        modes.to_csv(staging / "modes.csv", index=False, float_format="%.6g")
+        result.poles.to_csv(staging / "poles.csv", index=False, float_format="%.6g")
+        from ._figures import stabilisation_figure
 
-    figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
-    figure.savefig(out / "stabilisation.png", dpi=120)
+        figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
+        figure.savefig(staging / "stabilisation.png", dpi=120)
     return result, dt
+
+
+def shape_columns(record, channels) -> list[str]:
+    """The shape columns of ``modes.csv`` for the record's ``channels``:
+    ``phi_<name>`` when every channel used has a name of its own (non-empty,
+    unique, not all the reader's placeholders ``ch<k>``), else ``phi_<number>``."""
+    frame = getattr(record, "channels", None)
+    numbers = [f"phi_{channel}" for channel in channels]
+    if frame is None or "name" not in frame or len(frame) != record.acc.shape[1]:
+        return numbers
+    names = [frame["name"].iloc[c] for c in channels]
+    if any(not isinstance(n, str) or not n.strip() for n in names):
+        return numbers
+    names = [n.strip() for n in names]
+    placeholders = all(n == f"ch{c + 1}" for n, c in zip(names, channels))
+    if placeholders or len(set(names)) != len(names):
+        return numbers
+    return [f"phi_{name}" for name in names]

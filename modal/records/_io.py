@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import csv
 import re
+import stat
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -239,7 +240,9 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
         split = list(csv.reader(lines, delimiter=delimiter))
     rows = [(skip_rows + i + 1, row) for i, row in enumerate(split) if row and any(c.strip() for c in row)]
     # Header rows: leading rows with a non-numeric cell (names, units) ...
+    headers = []
     while rows and any(_number(c, decimal) is None for c in rows[0][1] if c.strip()):
+        headers.append(rows[0][1])
         rows = rows[1:]
     # ... or a row of whole numbers (node ids) narrower or wider than the data.
     if len(rows) >= 2 and all(_is_integer_literal(c) for c in rows[0][1]) and len(rows[0][1]) != len(rows[1][1]):
@@ -264,15 +267,26 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
             table[i, j] = value
     if _numeric_header(rows, table):
         table = table[1:]
+    names = _header_names(headers, width)
     if width >= 2 and (fs is None or _time_step(table[:, 0]) is not None):
         dt = _rate_from_time(table[:, 0], fs, path)
-        acc = table[:, 1:]
+        acc, names = table[:, 1:], names and names[1:]
     elif fs is None:
         raise ValueError(f"{path}: without fs the first column must be time (s), followed by channels")
     else:
         dt, acc = 1.0 / positive_float("fs", fs), table
     acc = _as_record(acc)
-    return MeasuredRecord(acc, dt, _channels(acc.shape[1]), path)
+    return MeasuredRecord(acc, dt, _channels(acc.shape[1], **({"name": names} if names else {})), path)
+
+
+def _header_names(headers, width):
+    """The channel names of a text file: its first header row with one
+    non-empty cell per column (a second row is usually the units), or None."""
+    for row in headers:
+        cells = [c.strip() for c in row]
+        if len(cells) == width and all(cells):
+            return cells
+    return None
 
 
 def _load_lvm(path: Path, fs):
@@ -340,6 +354,16 @@ def _load_uff(path: Path, fs):
     return MeasuredRecord(acc, _resolve_dt(dt_file, fs, path), channels, path)
 
 
+def _file_kind(mode: int) -> str:
+    """What a file that is not a regular file is, for messages."""
+    for test, kind in ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+                       (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+                       (stat.S_ISSOCK, "a socket")):
+        if test(mode):
+            return kind
+    return "not a regular file"
+
+
 _LOADERS = {".npy": _load_npy, ".npz": _load_npz, ".csv": _load_csv, ".txt": _load_csv, ".tsv": _load_csv,
             ".lvm": _load_lvm, ".uff": _load_uff, ".unv": _load_uff}
 
@@ -393,8 +417,11 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
     ------
     ValueError
         Naming the file (and the row and column of a text file): unknown
-        extension, an empty or non-numeric cell, NaN or inf, channels of
-        unequal length, missing or contradictory sampling rate, a
+        extension, a path that is not a regular file (a directory, a FIFO or
+        a device: refused before opening, which could block or never end), an
+        empty or non-numeric cell, NaN or inf, data that are not real numbers
+        (booleans, complex, strings, ``datetime64``, ``timedelta64``), channels
+        of unequal length, missing or contradictory sampling rate, a
         channels-first array.
     """
     path = Path(path)
@@ -403,6 +430,14 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
         raise ValueError(f"path: {path}: unknown record format {ext!r}; expected one of {sorted(_LOADERS)}")
     if not path.exists():
         raise ValueError(f"path: {path} does not exist")
+    # Only a regular file is a record: opening a FIFO blocks until a writer
+    # comes, and a device (/dev/zero, a terminal) never ends.
+    try:
+        mode = path.stat().st_mode
+    except OSError as exc:
+        raise ValueError(f"path: {path} cannot be read ({exc.strerror})") from None
+    if not stat.S_ISREG(mode):
+        raise ValueError(f"path: {path} is {_file_kind(mode)}, not a record file")
     options = {}
     if _LOADERS[ext] is _load_csv:
         options = {"delimiter": delimiter, "decimal": decimal, "skip_rows": skip_rows}

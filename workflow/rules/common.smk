@@ -84,6 +84,7 @@ NOTEBOOK_CODE = (
     + STUDY_CODE
     + code(
         "modal/thesis/display.py",
+        "modal/thesis/paths.py",
         "modal/thesis/report.py",
         "modal/thesis/tables.py",
         "modal/thesis/plots.py",
