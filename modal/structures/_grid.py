@@ -131,6 +131,10 @@ def _bar(stiffness, inertia, L):
 class Grid:
     """Planar grid of thin strips, clamped along its top edge (thesis Sec. 7.1).
 
+    Every parameter is keyword-only, and all but the three optional ones are
+    required: the model of a particular grid is stated in full where it is
+    used (the thesis's tuned grid in the workflow's config, ``grid.model``).
+
     Parameters
     ----------
     width, height : float
@@ -152,9 +156,6 @@ class Grid:
         Heights (m) of the ``n_horizontal`` horizontal strips, strictly
         decreasing, ``height > y >= 0``; default (None) equal spacing.
 
-    All other parameters are keyword-only and required: the model of a
-    particular grid is stated in full where it is used (the thesis's tuned
-    grid in the workflow's config, ``grid.model``).
     youngs_modulus, poisson, density : float
         ``E`` (Pa), ``nu`` (``G = E / (2 (1 + nu))``), ``rho`` (kg/m^3).
     elements_per_bay : int
