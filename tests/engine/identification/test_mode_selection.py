@@ -276,3 +276,18 @@ def test_svd_auto_counts_the_cost_of_both_routes():
     assert gram_pays((360, 366), 60)
     assert not gram_pays((144, 100), 12) and not gram_pays((192, 150), 12)
     assert not gram_pays((400, 400), 400)  # every triplet: nothing to gain
+
+
+@pytest.mark.parametrize("cols, short", [(505, False), (495, True)])
+def test_short_window_counts_the_whole_hankel_span(cols, short):
+    """ERA's ``short_window``: fewer than six periods in the ``(rows + cols) dt``
+    the Hankel matrix spans (not ``cols dt`` nor ``rows dt``): a 1 Hz mode
+    with rows = 100 at 100 Hz has 6.05 periods with 505 columns, 5.95 with 495."""
+    dt = 0.01
+    y = free_decays([1.0], [0.001], np.array([[1.0], [0.5]]), dt, 700)
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        result = modal.era(y, dt, 1, rows=100, cols=cols)
+    assert result.short_window.tolist() == [short]
