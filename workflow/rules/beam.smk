@@ -7,7 +7,7 @@
 
 rule identify:
     input:
-        code=ENGINE + STUDY_CODE,
+        code=code_inputs("workflow/scripts/identify.py"),
     output:
         res("identified/chunks/{study}_{interpretation}_{chunk}.csv"),
     log:
@@ -31,7 +31,7 @@ rule identify:
 
 rule merge_identified:
     input:
-        code=CHUNK_CODE,
+        code=code_inputs("workflow/scripts/merge_chunks.py"),
         chunks=lambda w: identified_chunks(w.study, w.interpretation),
     output:
         res("identified/{study}_{interpretation}.csv"),
@@ -53,7 +53,7 @@ rule merge_identified:
 # imports are paid once, not once per table.
 rule table:
     input:
-        code=TABLE_CODE,
+        code=code_inputs("workflow/scripts/table.py"),
         published=config["published"],
         identified=sorted(
             {f for n in table_numbers() for f in identified(study_of_table(n))}
@@ -82,7 +82,7 @@ rule table:
 
 rule shape_figures:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/shape_figures.py"),
         identified=identified("demo"),
     output:
         report(
@@ -109,7 +109,7 @@ rule shape_figures:
 
 rule noise_figures:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/noise_figures.py"),
         identified=identified("noise"),
     output:
         report(
@@ -135,7 +135,7 @@ rule noise_figures:
 
 rule cera_sensitivity:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/cera_sensitivity.py"),
         identified=identified("cera"),
     output:
         csv=res("tables/cera_sensitivity.csv"),

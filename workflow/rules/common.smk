@@ -4,6 +4,7 @@ import os
 import yaml
 from pathlib import Path
 
+import modal.thesis.dependencies
 from modal.thesis.chunks import seed_chunks, study_cases
 
 # --- the run: where results go ---------------------------------------------------
@@ -36,60 +37,26 @@ IDENTIFICATION_FIRST = 1
 
 
 # --- code inputs ---------------------------------------------------------------
-# Snakemake does not see edits to imported modules: each rule lists the code
-# its results depend on, as paths relative to where snakemake runs (so a copied
-# project reruns nothing). The engine for identification, the plotting module
-# for figures, the templates for the report.
+# Snakemake does not see edits to imported modules: each rule declares the
+# project modules its script (or notebook) imports, derived from the imports
+# themselves (modal.thesis.dependencies: parsed, transitively, with every
+# package __init__ on the way), as paths relative to where snakemake runs (so a
+# copied project reruns nothing). Templates and captions are files, listed.
+def code_inputs(path):
+    """The project modules that the script or notebook ``path`` (relative to
+    the project) runs when it is executed."""
+    root = Path(workflow.basedir)
+    return [
+        os.path.relpath(root / p)
+        for p in modal.thesis.dependencies.code_inputs(path, root=root)
+    ]
+
+
 def code(*names):
-    """Paths of project files (``modal/era.py``, ``workflow/report/x``)."""
+    """Paths of project files (``workflow/report/x``), relative to where snakemake runs."""
     return [os.path.relpath(Path(workflow.basedir) / name) for name in names]
 
 
-# The engine: every top-level module of modal (numerics, no thesis layer).
-ENGINE = sorted(
-    os.path.relpath(p) for p in (Path(workflow.basedir) / "modal").glob("*.py")
-)
-# A thesis module's list holds the thesis modules it imports (study.py imports
-# chunks.py; grid_study.py and intermediates.py import study.py).
-STUDY_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/study.py", "modal/thesis/chunks.py"
-)
-GRID_CODE = STUDY_CODE + code("modal/thesis/grid_study.py", "modal/thesis/tables.py")
-TABLE_CODE = STUDY_CODE + code(
-    "modal/thesis/tables.py",
-    "modal/thesis/report.py",
-    "modal/thesis/intermediates.py",
-)
-GRID_TABLE_CODE = (
-    code("modal/grid.py")
-    + GRID_CODE
-    + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
-)
-PLOT_CODE = STUDY_CODE + code(
-    "modal/thesis/plots.py",
-    "modal/thesis/tables.py",
-    "modal/thesis/intermediates.py",
-    "modal/indicators.py",
-    "modal/structures.py",
-    "modal/signals.py",
-)
-GRID_PLOT_CODE = PLOT_CODE + code("modal/grid.py", "modal/thesis/grid_study.py")
-CHUNK_CODE = code("modal/thesis/__init__.py", "modal/thesis/chunks.py")
-SUMMARY_CODE = TABLE_CODE
-# The notebooks draw figures and 01 recomputes a case through the engine.
-NOTEBOOK_CODE = (
-    ENGINE
-    + STUDY_CODE
-    + code(
-        "modal/thesis/display.py",
-        "modal/thesis/report.py",
-        "modal/thesis/tables.py",
-        "modal/thesis/plots.py",
-    )
-)
-REPORT_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py"
-)
 REPORT_TEMPLATES = code("workflow/report/report.html.j2", "workflow/report/report.css")
 CAPTIONS = "workflow/report/captions.yaml"
 

@@ -7,7 +7,7 @@
 
 rule grid_identify:
     input:
-        code=ENGINE + GRID_CODE,
+        code=code_inputs("workflow/scripts/grid_identify.py"),
         record=grid_inputs(),
     output:
         identified=res("grid/chunks/identified_{chunk}.csv"),
@@ -31,7 +31,7 @@ rule grid_identify:
 
 rule grid_merge:
     input:
-        code=CHUNK_CODE,
+        code=code_inputs("workflow/scripts/merge_chunks.py"),
         identified=lambda w: grid_chunk_files("identified"),
         selection=lambda w: grid_chunk_files("selection"),
         record=lambda w: grid_chunk_files("record", "npz")[0],
@@ -56,7 +56,7 @@ rule grid_merge:
 # Every grid table in one job (tables.py runs grid_table.py once per table).
 rule grid_table:
     input:
-        code=GRID_TABLE_CODE,
+        code=code_inputs("workflow/scripts/grid_table.py"),
         published=config["published"],
         identified=res("grid/identified.csv"),
         selection=res("grid/selection.csv"),
@@ -85,7 +85,7 @@ rule grid_table:
 
 rule grid_figures:
     input:
-        code=GRID_PLOT_CODE,
+        code=code_inputs("workflow/scripts/grid_figures.py"),
         published=config["published"],
         record=res("grid/record_first_seed.npz"),
         selection=res("grid/selection.csv"),

@@ -4,7 +4,7 @@
 
 rule measured_identify:
     input:
-        ENGINE,
+        code=code_inputs("workflow/scripts/measured.py"),
         record=lambda w: config["measured"][w.name]["path"],
     output:
         modes=res("measured/{name}/modes.csv"),

@@ -6,7 +6,7 @@
 
 rule summary:
     input:
-        code=SUMMARY_CODE,
+        code=code_inputs("workflow/scripts/summary.py"),
         tables=[res(f"tables/table_{n:02d}.csv") for n in all_tables()],
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
@@ -28,7 +28,9 @@ rule summary:
 # step, so both kernels use cores that would otherwise idle.
 rule notebook:
     input:
-        code=NOTEBOOK_CODE,
+        code=sorted(
+            {f for name in NOTEBOOKS for f in code_inputs(f"notebooks/{name}.ipynb")}
+        ),
         captions=CAPTIONS,
         data=sorted(set(d for name in NOTEBOOKS for d in notebook_inputs(name))),
         notebooks=[f"notebooks/{name}.ipynb" for name in NOTEBOOKS],
@@ -53,7 +55,7 @@ rule notebook:
 
 rule report_html:
     input:
-        code=REPORT_CODE,
+        code=code_inputs("workflow/scripts/report_html.py"),
         template=REPORT_TEMPLATES,
         captions=CAPTIONS,
         summary=SUMMARY,
