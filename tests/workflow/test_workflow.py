@@ -269,14 +269,16 @@ def test_snakemake_files_are_snakefmt_formatted():
 
 
 def test_script_runs_by_hand(workdir):
-    """Each script builds its own ``snakemake`` object (mock_snakemake) when run by hand."""
+    """A job's script runs by hand (in a debugger, IPython) through Snakemake's
+    public route: ``--skip-script-cleanup`` keeps the script it hands the job,
+    with the job's ``snakemake`` object, and plain ``python`` reruns it."""
     table = workdir / "results/tables/table_01.csv"
     before = table.read_bytes()
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forcerun", "table", "--skip-script-cleanup",
+                     "results/tables/table_01.csv")
+    kept = re.search(r"Not cleaning up (\S+\.table\.py)", proc.stdout + proc.stderr).group(1)
     table.unlink()
-    code = ("import runpy, sys; sys.path.insert(0, 'workflow/scripts'); from _helpers import mock_snakemake; "
-            "g = {'snakemake': mock_snakemake('table', configfiles=[%r], number='01')}; "
-            "runpy.run_path('workflow/scripts/table.py', init_globals=g)" % SMALL_CONFIG_FILE)
-    subprocess.run([sys.executable, "-c", code], cwd=workdir, check=True, capture_output=True, text=True)
+    subprocess.run([sys.executable, kept], cwd=workdir, check=True, capture_output=True, text=True)
     assert table.read_bytes() == before
 
 

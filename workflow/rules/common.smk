@@ -27,15 +27,6 @@ wildcard_constraints:
     chunk=r"\d+",
 
 
-# --- scheduling ------------------------------------------------------------------
-# Every identification (beam chunks, grid tests, measured records) and its merge
-# runs before any table, figure or summary: they start the longest chains to the
-# notebooks, which need every table and figure (Snakemake's default priority is
-# 0). Measured: with the tables also first, the noise study's identification
-# waited behind them and its figures ran last, 2-3 s later.
-IDENTIFICATION_FIRST = 1
-
-
 # --- code inputs ---------------------------------------------------------------
 # Snakemake does not see edits to imported modules: each rule declares the
 # project modules its script (or notebook) imports, derived from the imports
@@ -163,23 +154,6 @@ def beam_outputs():
     )
 
 
-def beam_table_item(number):
-    """What table.py reads of one beam table (_helpers.item_job):
-    its number, the identified files of its study, its spec and its study's
-    methods and interpretations."""
-    spec = table_spec(number)
-    study = config["studies"][spec["study"]]
-    return {
-        "wildcards": {"number": f"{number:02d}"},
-        "input": {"identified": identified(spec["study"])},
-        "params": {
-            "spec": spec,
-            "methods": study["methods"],
-            "interpretations": study["interpretations"],
-        },
-    }
-
-
 def tables_of(*studies):
     return [n for n in table_numbers() if study_of_table(n) in studies]
 
@@ -220,19 +194,15 @@ def grid_outputs():
 
 
 # --- the report (report.smk) ------------------------------------------------------
-# The report notebooks in chapter order, each with its cells' measured time
-# (s, papermill): the notebook job's kernels take them longest first, so the
-# kernels finish together.
-NOTEBOOK_SECONDS = {
-    "00_summary": 1.7,
-    "01_method_demo": 1.3,
-    "02_noise_study": 2.2,
-    "03_spillover": 0.8,
-    "04_cera": 0.43,
-    "05_grid": 0.45,
-}
-NOTEBOOKS = list(NOTEBOOK_SECONDS)
-NOTEBOOKS_LONGEST_FIRST = sorted(NOTEBOOKS, key=NOTEBOOK_SECONDS.get, reverse=True)
+# The report notebooks in chapter order.
+NOTEBOOKS = [
+    "00_summary",
+    "01_method_demo",
+    "02_noise_study",
+    "03_spillover",
+    "04_cera",
+    "05_grid",
+]
 SUMMARY = res("tables/summary.csv")
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.

@@ -16,7 +16,6 @@ rule measured_identify:
         res("logs/measured_{name}.log"),
     benchmark:
         res("benchmarks/measured_{name}.tsv")
-    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=1000,

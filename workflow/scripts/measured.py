@@ -3,12 +3,10 @@
 from argparse import Namespace
 from pathlib import Path
 
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
 from modal.cli import identify
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("measured_identify", name="palisaden")
 start_job(snakemake)
 spec = snakemake.params.spec
 args = Namespace(
