@@ -256,7 +256,6 @@ def test_pole_indicators_of_an_overflowing_spurious_pole_are_silent():
     (50^399 > 1e308), so its MAMC is 0 (as documented), without a floating-point
     warning, whether the poles are complex or all real; the physical pole
     beside it (damping 3 %) keeps MAMC 1."""
-    from modal.identification._era import pole_indicators
 
     dt, omega, zeta, n_cols, n_sets = 0.01, 2 * np.pi * 4.2, 0.03, 400, 2
     z = np.array([np.exp((-zeta + 1j * np.sqrt(1 - zeta**2)) * omega * dt), 50.0])
@@ -286,7 +285,6 @@ def test_pole_indicators_of_a_pole_at_the_origin_are_silent():
     data) gives a real pole at z = 0: s = ln z / dt is -inf, so its frequency
     is inf and its damping NaN (a real pole's), without a floating-point
     warning; the pole beside it is unaffected."""
-    from modal.identification._era import pole_indicators
 
     dt = 0.01
     z = np.array([0.0, 0.9 * np.exp(0.3j)])
@@ -311,3 +309,16 @@ def test_realise_at_one_order_reports_the_kept_singular_values():
     low = realise(p, d, qt, h[2:], n_channels=2, n_sets=1, dt=dt)
     np.testing.assert_array_equal(low.singular_values, d)
     np.testing.assert_allclose(low.omega, res.omega, rtol=1e-12)
+
+
+@pytest.mark.parametrize("modulus", [0.05, 0.99, 20.0])
+def test_a_pair_at_a_small_angle_is_one_complex_pole(modulus):
+    """An oscillation at 1e-8 rad a sample (a mode at 1.6e-9 of the sampling
+    rate), inside, near or outside the unit circle, is a complex pair (one
+    pole with Im z > 0), not two real poles."""
+    sin = 1e-8
+    phi = modulus * np.array([[np.sqrt(1 - sin**2), -sin], [sin, np.sqrt(1 - sin**2)]])
+    rng = np.random.default_rng(13)
+    z, real, _, _ = era_module.eigen_poles(phi, rng.standard_normal((2, 2)), rng.standard_normal((2, 10)))
+    assert z.shape == (1,) and not real.any()
+    assert z[0].imag == pytest.approx(modulus * sin, rel=1e-6)

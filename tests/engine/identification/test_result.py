@@ -9,7 +9,10 @@ import numpy as np
 import pytest
 
 import modal
-from modal.identification._result import near_limit, normalise_shapes, sort_modes
+# No public door: the free-response statistic and its threshold, the shape
+# normalisation, sorting and alias margin that every method shares.
+from modal.identification._result import (free_response_growth, near_limit, normalise_shapes, sort_modes,
+                                          warn_not_free_response)
 
 from ..cases import flagged, PALISADEN, PER_PERIOD, SENSORS_X, BEAM, THESIS_SAMPLES, ambient_beam, beam_record, two_sinusoids
 
@@ -140,7 +143,6 @@ def test_free_response_growth_of_a_known_envelope():
     """Whole periods of a sine with amplitude a_i in window i (4 periods each):
     the window energies are a_i^2 / 2, so the statistic is the sum of their
     rises over the first: (4 - 1) + (9 - 1) = 11."""
-    from modal.identification._result import free_response_growth
 
     dt, f = 0.01, 2.5  # 40 samples per period, windows of 160 samples
     amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
@@ -158,7 +160,6 @@ def test_free_decays_do_not_warn_free_response(zeta, eta):
     """Impulse responses of the beam off the thesis geometry (sensors at
     SENSORS_X, impact at 0.37 L), undamped to 5 % damping, noise to 5 %:
     no method calls them ambient, and the statistic stays far below 1."""
-    from modal.identification._result import free_response_growth
 
     n = 3
     omega = BEAM.natural_frequencies(n)
@@ -177,7 +178,6 @@ def test_a_mode_near_nyquist_is_not_mistaken_for_growth():
     """Sampled, an undamped mode at 0.99 of the Nyquist frequency beats with
     period 100 samples (its energy oscillates at 2 omega dt, folded to 0.02
     pi): windows of 8 such beats hold a constant energy, so no warning."""
-    from modal.identification._result import free_response_growth
 
     k = np.arange(2000)
     y = np.column_stack([np.cos(0.99 * np.pi * k), 0.5 * np.cos(0.99 * np.pi * k + 1)])
@@ -189,7 +189,6 @@ def test_ambient_records_warn_free_response():
     """White-noise-driven beam response and the Palisaden record: TCM, CERA
     and ERA on the raw record warn, naming the remedy; ERA on the NExT
     correlation functions of the same record (a free decay) does not."""
-    from modal.identification._result import free_response_growth
 
     acc, dt, f_exact = ambient_beam(duration_s=30, seed=7)
     assert free_response_growth(acc[None], dt, 2 * np.pi * f_exact) > 3
@@ -241,8 +240,6 @@ def test_free_response_growth_edge_cases_exact():
     all is silent), and no numpy warning escapes."""
     import warnings
 
-    from modal.identification._result import free_response_growth
-
     dt, f = 0.01, 2.5
     t = dt * np.arange(160)
     amplitudes = np.array([1, 1, 2, 1, 3, 3, 3, 3.0])
@@ -283,8 +280,6 @@ def test_warn_not_free_response_threshold_and_lowest_frequency():
     (exactly 1 is not above), and names the lowest positive finite frequency."""
     import warnings
     from types import SimpleNamespace
-
-    from modal.identification._result import free_response_growth, warn_not_free_response
 
     dt = 0.01
     exactly_one = _alternating([1, 0, 1, 0, 0, 0, 0, 0], 2)  # rises: 1 over a first energy of 1

@@ -10,6 +10,10 @@ import pandas as pd
 import pytest
 
 import modal
+# No public door: the realisation at one order (the reference diagram), the
+# spectrum, stability and clustering of hand-made pole tables.
+from modal.identification._era import realise
+from modal.identification._stabilisation import _mean_spectrum, _select_modes, _stability
 
 from ..cases import flagged, BEAM, SENSORS_X, ambient_beam
 
@@ -44,14 +48,12 @@ def _per_order_reference(data, dt, max_order, rows, criteria):
     """The stabilisation diagram the straightforward way: ``realise`` at each
     order from the truncated decomposition, each order's poles compared with
     the previous order's through the whole MAC matrix."""
-    from modal.identification._era import realise
-    from modal.identification._era_kernels import decompose
 
     y = data if data.ndim == 3 else data[None]
     m, n_samples, l = y.shape
     h_ext = modal.hankel(y, rows + 1, n_samples - rows)
     h0, h1 = h_ext[:-l], h_ext[l:]
-    p, d, qt, _ = decompose(h0, max_order, block=(l, m))
+    p, d, qt, _ = modal.decompose(h0, max_order, block=(l, m))
     rows_out, shapes_out, previous = [], [], None
     for order in range(2, max_order + 1, 2):
         res = realise(p[:, :order], d[:order], qt[:order], h1, n_channels=l, n_sets=m, dt=dt)
@@ -112,7 +114,6 @@ def test_mean_spectrum_equals_the_direct_sum(n):
     """The spectrum behind the diagram (one long FFT of the summed
     autocorrelation when the padding allows) equals the root mean square of
     every series' tapered, zero-padded amplitude spectrum."""
-    from modal.identification._stabilisation import _mean_spectrum
 
     y = np.random.default_rng(n).standard_normal((3, n, 2)) * np.array([1.0, 30.0])
     freqs, spectrum = _mean_spectrum(y, 0.01)
@@ -139,10 +140,9 @@ def test_stability_criteria_bounds_and_names():
 def test_stability_of_a_single_pole():
     """A table of one pole (the lowest order) has nothing to compare with:
     not stable, and no index past the table."""
-    from modal.identification._stabilisation import StabilityCriteria, _stability
 
     table = {"order": np.array([2]), "freq_hz": np.array([1.5]), "damping": np.array([0.01])}
-    flags = _stability(table, np.ones((1, 3)), StabilityCriteria())
+    flags = _stability(table, np.ones((1, 3)), modal.StabilityCriteria())
     for key in ("stable_freq", "stable_damping", "stable_shape", "stable"):
         np.testing.assert_array_equal(flags[key], [False])
 
@@ -161,7 +161,6 @@ def test_select_modes_on_a_known_pole_table():
     modes numbered 1, 2, ... by frequency, with the members' mean and sample
     (ddof=1) standard deviation, and the medoid's shape (the member closest,
     in total, to the other members of its cluster)."""
-    from modal.identification._stabilisation import _select_modes
 
     e = np.eye(3)
     a = [e[0] + [0, 1e-4 * i, 0] for i in range(3)]  # near-identical shapes, told apart by index
@@ -186,7 +185,6 @@ def test_select_modes_on_a_known_pole_table():
 def test_select_modes_needs_min_poles_candidates(n_poles, min_poles, n_modes):
     """Exactly min_poles (at least 2) coincident poles make a mode; fewer make
     none, and then the shapes are an empty (n_channels, 0) array."""
-    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0] * n_poles, [[1.0, 2.0, 0.0, 1.0]] * n_poles)
     labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=min_poles)
@@ -197,7 +195,6 @@ def test_select_modes_needs_min_poles_candidates(n_poles, min_poles, n_modes):
 def test_select_modes_without_a_large_enough_cluster():
     """Three candidates in three distant clusters, min_poles 3: no mode, and
     the shapes are an empty (n_channels, 0) array."""
-    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0, 2.0, 3.0], [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     labels, modes, reps = _select_modes(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
@@ -373,8 +370,6 @@ def test_mean_spectrum_of_a_spectral_null_is_zero_not_nan():
     the power there at -2e-16, which must read as 0, not as NaN."""
     import warnings
 
-    from modal.identification._stabilisation import _mean_spectrum
-
     taper = np.hanning(12)[6:]
     y = np.zeros((1, 6, 1))
     y[0, :2, 0] = np.array([1.0, -1.0]) / taper[:2]
@@ -390,7 +385,6 @@ def test_select_modes_joins_groups_by_average_linkage():
     0.0098 and 0.0196), cluster distance 0.012: 1.01 and 1.02 Hz join; 1.00
     Hz is 0.0147 from them on average, so it stays out (single linkage, or a
     distance matrix shrunk by 2/3, would join all three)."""
-    from modal.identification._stabilisation import _select_modes
 
     poles, pole_shapes = _pole_table([1.0, 1.01, 1.02], [[1.0, 2.0]] * 3)
     labels, modes, _ = _select_modes(poles, pole_shapes, cluster_distance=0.012, min_poles=2)
@@ -403,7 +397,6 @@ def test_select_modes_numbers_modes_by_mean_frequency():
     grows with the number of poles: five poles near 1 Hz are mode 1 and two
     near 2 Hz mode 2 (the sums, 5 and 4 Hz, or sums times counts, 25 and 8,
     would order them the other way)."""
-    from modal.identification._stabilisation import _select_modes
 
     freqs = [2.0, 2.001, 1.0, 1.001, 0.999, 1.0005, 0.9995]
     shapes = [[0.0, 1.0, 1.0]] * 2 + [[1.0, 0.0, 0.5]] * 5
@@ -421,8 +414,6 @@ def test_select_modes_one_pole_modes_have_nan_spread_silently():
     their means and shapes are the poles' own."""
     import warnings
 
-    from modal.identification._stabilisation import _select_modes
-
     poles, pole_shapes = _pole_table([3.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -433,3 +424,23 @@ def test_select_modes_one_pole_modes_have_nan_spread_silently():
     np.testing.assert_array_equal(modes["damping"], poles["damping"][[1, 0]])
     assert modes["freq_std_hz"].isna().all() and modes["damping_std"].isna().all()
     np.testing.assert_array_equal(reps, [[0.0, 1.0], [1.0, 0.0]])
+
+
+def test_a_slowly_growing_mode_is_never_physical():
+    """A mode with damping -0.5 % (slowly growing) beside one with +1 %, with
+    a little noise: the growing mode's poles are stable from order to order,
+    yet never physical (damping must be positive), so it makes no mode; the
+    decaying one does."""
+    dt = 0.01
+    t = dt * np.arange(2000)
+    w_grow, w_decay = 2 * np.pi * 1.5, 2 * np.pi * 4.0
+    grow = np.exp(0.005 * w_grow * t) * np.cos(w_grow * t)
+    decay = np.exp(-0.01 * w_decay * t) * np.cos(w_decay * t)
+    y = np.column_stack([grow + decay, grow - 0.5 * decay])
+    y = y + 1e-6 * np.random.default_rng(3).standard_normal(y.shape)
+    result, _ = _diagram(y, dt, 8, 40)
+    growing = np.isclose(result.poles["freq_hz"], 1.5, rtol=1e-3)
+    assert growing.sum() >= 3 and result.poles.loc[growing, "stable"].sum() >= 2
+    np.testing.assert_allclose(result.poles.loc[growing, "damping"], -0.005, rtol=0.02)
+    assert not result.poles.loc[growing, "physical"].any()
+    np.testing.assert_allclose(result.modes["freq_hz"], [4.0], rtol=1e-4)
