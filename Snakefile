@@ -27,18 +27,6 @@ include: "workflow/rules/measured.smk"
 include: "workflow/rules/report.smk"
 
 
-# Snakemake's job rate limiter (--max-jobs-per-timespan, default 100/1s)
-# leaves a one-second threading.Timer behind whenever it waited for a job, and
-# the interpreter waits for it before exiting: 1 s added to every run. The
-# scheduler is done when onsuccess runs, so cancel what is left.
-onsuccess:
-    import threading
-
-    for _timer in threading.enumerate():
-        if isinstance(_timer, threading.Timer):
-            _timer.cancel()
-
-
 rule all:
     input:
         beam_outputs(),

@@ -1,11 +1,10 @@
-"""Shared fixtures: the thesis's beam demonstration (Sec. 6.1) and its
-virtual grid (Sec. 7.1-7.2, from config/config.yaml, the grid's one source)."""
+"""Shared fixtures: the thesis's beam demonstration (Sec. 6.1), used by the
+engine's tests and the thesis layer's."""
 
 from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
 import modal
 
@@ -29,11 +28,3 @@ def demo(beam):
         return modal.beam_impulse_response(beam, modes, 2 * L / 7, sensors, dt, n_samples, damping)
 
     return dict(omega=omega, dt=dt, sensors=sensors, make=make)
-
-
-@pytest.fixture(scope="session")
-def thesis_grid_config():
-    """The ``grid`` block of config/config.yaml: ``model`` (a :class:`modal.Grid`)
-    and ``test`` (the settings of :func:`modal.shake_test`)."""
-    config = Path(__file__).resolve().parents[1] / "config" / "config.yaml"
-    return yaml.safe_load(config.read_text())["grid"]

@@ -4,7 +4,7 @@
 tightens a dependency in ``pyproject.toml`` and forgets to rerun it, the lock
 no longer holds what the project asks for. This script names each such
 requirement. ``workflow/setup.sh`` runs it after every install (a warning,
-an error under ``CI=true``), and ``tests/workflow/test_lock.py`` runs it too.
+an error under ``CI=true``), and ``tests/project/test_setup.py`` runs it too.
 
 Usage: ``python workflow/lock_check.py [EXTRA ...]`` (default: every extra);
 exit status 1 when a requirement is missing or unsatisfied.

@@ -95,7 +95,7 @@ def _frame(result, **labels) -> pd.DataFrame:
     """``labels`` then :meth:`ModalResult.columns` without ``method`` and with
     ``damping`` named ``damping_id``, in one DataFrame constructor call (renaming
     and inserting into ``to_frame()`` took more time than the identification
-    itself; tests/test_identification.py checks they agree)."""
+    itself; tests/thesis/test_study.py checks they agree)."""
     columns = result.columns()
     del columns["method"]
     return pd.DataFrame({**labels, **{("damping_id" if k == "damping" else k): v for k, v in columns.items()}})

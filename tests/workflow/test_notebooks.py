@@ -44,8 +44,8 @@ def outputs(nb):
 def test_every_chapter_has_a_notebook_and_a_rule():
     assert [p.stem for p in NOTEBOOKS] == NAMES
     rules = (ROOT / "workflow/rules/common.smk").read_text()
-    listed = re.search(r"NOTEBOOK_SECONDS = \{(.*?)\}", rules, flags=re.S).group(1)
-    assert re.findall(r'"([^"]+)":', listed) == NAMES
+    listed = re.search(r"NOTEBOOKS = \[(.*?)\]", rules, flags=re.S).group(1)
+    assert re.findall(r'"([^"]+)"', listed) == NAMES
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=lambda p: p.stem)

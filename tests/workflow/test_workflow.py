@@ -2,6 +2,7 @@
 determinism, failure hygiene and lint."""
 
 import copy
+import inspect
 import os
 import re
 import subprocess
@@ -12,6 +13,7 @@ import pytest
 import yaml
 from snakemake.utils import validate
 
+import modal
 import modal.thesis.config
 
 from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake
@@ -224,16 +226,20 @@ def planned_rules(workdir, *args):
     return set(jobs) - {"all"}
 
 
+#: The ERA module, wherever the engine's layout puts it (modal/era.py, modal/identification/_era.py).
+ERA_MODULE = os.path.relpath(inspect.getsourcefile(inspect.unwrap(modal.era)), ROOT)
+
+
 @pytest.mark.parametrize("edited, expected", [
     ("modal/thesis/plots.py", {"shape_figures", "noise_figures", "cera_sensitivity", "grid_figures", "notebook",
                                "report_html"}),
     ("workflow/report/report.html.j2", {"report_html"}),
-    ("modal/era.py", {"identify", "grid_identify"}),
+    (ERA_MODULE, {"identify", "grid_identify", "measured_identify"}),
 ])
 def test_code_edit_reruns_only_what_depends_on_it(workdir, edited, expected):
     """A cosmetic edit of the plotting module or a template reruns no
-    identification; an edit of era.py reruns the identifications (and, by
-    their outputs, what reads them)."""
+    identification; an edit of the ERA module reruns the identifications (and,
+    by their outputs, what reads them)."""
     path = workdir / edited
     text, stat = path.read_bytes(), path.stat()
     try:
@@ -242,18 +248,18 @@ def test_code_edit_reruns_only_what_depends_on_it(workdir, edited, expected):
     finally:
         path.write_bytes(text)
         os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))
-    if edited == "modal/era.py":
+    if edited == ERA_MODULE:
         assert expected <= planned
     else:
         assert planned == expected, planned
-        assert not planned & {"identify", "grid_identify", "table", "grid_table", "summary"}
+        assert not planned & {"identify", "grid_identify", "measured_identify", "table", "grid_table", "summary"}
 
 
 def test_rules_declare_relative_code_inputs(workdir):
     proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forceall", "-n", "--printshellcmds",
                      "results/identified/demo_named.csv")
     out = proc.stdout + proc.stderr
-    assert "modal/era.py" in out and str(workdir) not in out.split("Building DAG")[-1]
+    assert ERA_MODULE in out and str(workdir) not in out.split("Building DAG")[-1]
 
 
 def test_snakemake_files_are_snakefmt_formatted():
@@ -263,14 +269,16 @@ def test_snakemake_files_are_snakefmt_formatted():
 
 
 def test_script_runs_by_hand(workdir):
-    """Each script builds its own ``snakemake`` object (mock_snakemake) when run by hand."""
+    """A job's script runs by hand (in a debugger, IPython) through Snakemake's
+    public route: ``--skip-script-cleanup`` keeps the script it hands the job,
+    with the job's ``snakemake`` object, and plain ``python`` reruns it."""
     table = workdir / "results/tables/table_01.csv"
     before = table.read_bytes()
+    proc = snakemake(workdir, "--configfile", SMALL_CONFIG_FILE, "--forcerun", "table", "--skip-script-cleanup",
+                     "results/tables/table_01.csv")
+    kept = re.search(r"Not cleaning up (\S+\.table\.py)", proc.stdout + proc.stderr).group(1)
     table.unlink()
-    code = ("import runpy, sys; sys.path.insert(0, 'workflow/scripts'); from _helpers import mock_snakemake; "
-            "g = {'snakemake': mock_snakemake('table', configfiles=[%r], number='01')}; "
-            "runpy.run_path('workflow/scripts/table.py', init_globals=g)" % SMALL_CONFIG_FILE)
-    subprocess.run([sys.executable, "-c", code], cwd=workdir, check=True, capture_output=True, text=True)
+    subprocess.run([sys.executable, kept], cwd=workdir, check=True, capture_output=True, text=True)
     assert table.read_bytes() == before
 
 

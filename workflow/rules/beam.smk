@@ -7,14 +7,13 @@
 
 rule identify:
     input:
-        code=ENGINE + STUDY_CODE,
+        code=code_inputs("workflow/scripts/identify.py"),
     output:
         res("identified/chunks/{study}_{interpretation}_{chunk}.csv"),
     log:
         res("logs/identify_{study}_{interpretation}_{chunk}.log"),
     benchmark:
         res("benchmarks/identify_{study}_{interpretation}_{chunk}.tsv")
-    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=400,
@@ -31,13 +30,12 @@ rule identify:
 
 rule merge_identified:
     input:
-        code=CHUNK_CODE,
+        code=code_inputs("workflow/scripts/merge_chunks.py"),
         chunks=lambda w: identified_chunks(w.study, w.interpretation),
     output:
         res("identified/{study}_{interpretation}.csv"),
     log:
         res("logs/merge_identified_{study}_{interpretation}.log"),
-    priority: IDENTIFICATION_FIRST
     localrule: True
     threads: 1
     resources:
@@ -49,11 +47,11 @@ rule merge_identified:
         "../scripts/merge_chunks.py"
 
 
-# Every beam table in one job (tables.py runs table.py once per table): the
-# imports are paid once, not once per table.
+# Every beam table in one job (table.py loops over them): the imports are paid
+# once, not once per table.
 rule table:
     input:
-        code=TABLE_CODE,
+        code=code_inputs("workflow/scripts/table.py"),
         published=config["published"],
         identified=sorted(
             {f for n in table_numbers() for f in identified(study_of_table(n))}
@@ -67,22 +65,25 @@ rule table:
         md=[res(f"tables/table_{n:02d}.md") for n in table_numbers()],
         notes=note_files(table_numbers()),
     log:
-        [res(f"logs/table_{n:02d}.log") for n in table_numbers()],
+        res("logs/table.log"),
     threads: 1
     resources:
         mem_mb=300,
         runtime=10,
     params:
-        script="table.py",
-        each=[beam_table_item(n) for n in table_numbers()],
-        first_seed=config["seeds"]["first"],
+        tables={n: table_spec(n) for n in table_numbers()},
+        studies={
+            study_of_table(n): config["studies"][study_of_table(n)]
+            for n in table_numbers()
+        },
+        seeds=config["seeds"],
     script:
-        "../scripts/tables.py"
+        "../scripts/table.py"
 
 
 rule shape_figures:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/shape_figures.py"),
         identified=identified("demo"),
     output:
         report(
@@ -101,15 +102,15 @@ rule shape_figures:
         figures=config["shape_figures"],
         captions=FIGURE_CAPTIONS,
         beam=config["beams"][config["studies"]["demo"]["beam"]],
-        interpretations=config["studies"]["demo"]["interpretations"],
-        first_seed=config["seeds"]["first"],
+        study=config["studies"]["demo"],
+        seeds=config["seeds"],
     script:
         "../scripts/shape_figures.py"
 
 
 rule noise_figures:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/noise_figures.py"),
         identified=identified("noise"),
     output:
         report(
@@ -127,15 +128,15 @@ rule noise_figures:
     params:
         figures=config["noise_figures"],
         captions=FIGURE_CAPTIONS,
-        interpretations=config["studies"]["noise"]["interpretations"],
-        first_seed=config["seeds"]["first"],
+        study=config["studies"]["noise"],
+        seeds=config["seeds"],
     script:
         "../scripts/noise_figures.py"
 
 
 rule cera_sensitivity:
     input:
-        code=PLOT_CODE,
+        code=code_inputs("workflow/scripts/cera_sensitivity.py"),
         identified=identified("cera"),
     output:
         csv=res("tables/cera_sensitivity.csv"),
@@ -151,8 +152,8 @@ rule cera_sensitivity:
         mem_mb=400,
         runtime=10,
     params:
-        interpretations=config["studies"]["cera"]["interpretations"],
-        first_seed=config["seeds"]["first"],
+        study=config["studies"]["cera"],
+        seeds=config["seeds"],
         title=EXTRA_CAPTIONS["cera_sensitivity"],
         tables={
             n: (table_spec(n)["case"], table_spec(n)["title"])

@@ -4,6 +4,7 @@ import os
 import yaml
 from pathlib import Path
 
+import modal.thesis.dependencies
 from modal.thesis.chunks import seed_chunks, study_cases
 
 # --- the run: where results go ---------------------------------------------------
@@ -26,73 +27,27 @@ wildcard_constraints:
     chunk=r"\d+",
 
 
-# --- scheduling ------------------------------------------------------------------
-# Every identification (beam chunks, grid tests, measured records) and its merge
-# runs before any table, figure or summary: they start the longest chains to the
-# notebooks, which need every table and figure (Snakemake's default priority is
-# 0). Measured: with the tables also first, the noise study's identification
-# waited behind them and its figures ran last, 2-3 s later.
-IDENTIFICATION_FIRST = 1
-
-
 # --- code inputs ---------------------------------------------------------------
-# Snakemake does not see edits to imported modules: each rule lists the code
-# its results depend on, as paths relative to where snakemake runs (so a copied
-# project reruns nothing). The engine for identification, the plotting module
-# for figures, the templates for the report.
+# Snakemake does not see edits to imported modules: each rule declares the
+# project modules its script (or notebook) imports, derived from the imports
+# themselves (modal.thesis.dependencies: parsed, transitively, with every
+# package __init__ on the way), as paths relative to where snakemake runs (so a
+# copied project reruns nothing). Templates and captions are files, listed.
+def code_inputs(path):
+    """The project modules that the script or notebook ``path`` (relative to
+    the project) runs when it is executed."""
+    root = Path(workflow.basedir)
+    return [
+        os.path.relpath(root / p)
+        for p in modal.thesis.dependencies.code_inputs(path, root=root)
+    ]
+
+
 def code(*names):
-    """Paths of project files (``modal/era.py``, ``workflow/report/x``)."""
+    """Paths of project files (``workflow/report/x``), relative to where snakemake runs."""
     return [os.path.relpath(Path(workflow.basedir) / name) for name in names]
 
 
-# The engine: every top-level module of modal (numerics, no thesis layer).
-ENGINE = sorted(
-    os.path.relpath(p)
-    for p in (Path(workflow.basedir) / "modal").rglob("*.py")
-    if "thesis" not in p.parts
-)
-# A thesis module's list holds the thesis modules it imports (study.py imports
-# chunks.py; grid_study.py and intermediates.py import study.py).
-STUDY_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/study.py", "modal/thesis/chunks.py"
-)
-GRID_CODE = STUDY_CODE + code("modal/thesis/grid_study.py", "modal/thesis/tables.py")
-TABLE_CODE = STUDY_CODE + code(
-    "modal/thesis/tables.py",
-    "modal/thesis/report.py",
-    "modal/thesis/intermediates.py",
-)
-GRID_TABLE_CODE = (
-    code("modal/structures/_grid.py")
-    + GRID_CODE
-    + code("modal/thesis/report.py", "modal/thesis/intermediates.py")
-)
-PLOT_CODE = STUDY_CODE + code(
-    "modal/thesis/plots.py",
-    "modal/thesis/tables.py",
-    "modal/thesis/intermediates.py",
-    "modal/identification/_indicators.py",
-    "modal/structures/_beam.py",
-    "modal/signals/_filters.py",
-)
-GRID_PLOT_CODE = PLOT_CODE + code("modal/structures/_grid.py", "modal/thesis/grid_study.py")
-CHUNK_CODE = code("modal/thesis/__init__.py", "modal/thesis/chunks.py")
-SUMMARY_CODE = TABLE_CODE
-# The notebooks draw figures and 01 recomputes a case through the engine.
-NOTEBOOK_CODE = (
-    ENGINE
-    + STUDY_CODE
-    + code(
-        "modal/thesis/display.py",
-        "modal/thesis/paths.py",
-        "modal/thesis/report.py",
-        "modal/thesis/tables.py",
-        "modal/thesis/plots.py",
-    )
-)
-REPORT_CODE = code(
-    "modal/thesis/__init__.py", "modal/thesis/html.py", "modal/thesis/tables.py"
-)
 REPORT_TEMPLATES = code("workflow/report/report.html.j2", "workflow/report/report.css")
 CAPTIONS = "workflow/report/captions.yaml"
 
@@ -199,23 +154,6 @@ def beam_outputs():
     )
 
 
-def beam_table_item(number):
-    """What table.py reads of one beam table (_helpers.item_job):
-    its number, the identified files of its study, its spec and its study's
-    methods and interpretations."""
-    spec = table_spec(number)
-    study = config["studies"][spec["study"]]
-    return {
-        "wildcards": {"number": f"{number:02d}"},
-        "input": {"identified": identified(spec["study"])},
-        "params": {
-            "spec": spec,
-            "methods": study["methods"],
-            "interpretations": study["interpretations"],
-        },
-    }
-
-
 def tables_of(*studies):
     return [n for n in table_numbers() if study_of_table(n) in studies]
 
@@ -256,19 +194,15 @@ def grid_outputs():
 
 
 # --- the report (report.smk) ------------------------------------------------------
-# The report notebooks in chapter order, each with its cells' measured time
-# (s, papermill): the notebook job's kernels take them longest first, so the
-# kernels finish together.
-NOTEBOOK_SECONDS = {
-    "00_summary": 1.7,
-    "01_method_demo": 1.3,
-    "02_noise_study": 2.2,
-    "03_spillover": 0.8,
-    "04_cera": 0.43,
-    "05_grid": 0.45,
-}
-NOTEBOOKS = list(NOTEBOOK_SECONDS)
-NOTEBOOKS_LONGEST_FIRST = sorted(NOTEBOOKS, key=NOTEBOOK_SECONDS.get, reverse=True)
+# The report notebooks in chapter order.
+NOTEBOOKS = [
+    "00_summary",
+    "01_method_demo",
+    "02_noise_study",
+    "03_spillover",
+    "04_cera",
+    "05_grid",
+]
 SUMMARY = res("tables/summary.csv")
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.

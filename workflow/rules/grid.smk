@@ -7,7 +7,7 @@
 
 rule grid_identify:
     input:
-        code=ENGINE + GRID_CODE,
+        code=code_inputs("workflow/scripts/grid_identify.py"),
         record=grid_inputs(),
     output:
         identified=res("grid/chunks/identified_{chunk}.csv"),
@@ -17,7 +17,6 @@ rule grid_identify:
         res("logs/grid_identify_{chunk}.log"),
     benchmark:
         res("benchmarks/grid_identify_{chunk}.tsv")
-    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=500,
@@ -31,7 +30,7 @@ rule grid_identify:
 
 rule grid_merge:
     input:
-        code=CHUNK_CODE,
+        code=code_inputs("workflow/scripts/merge_chunks.py"),
         identified=lambda w: grid_chunk_files("identified"),
         selection=lambda w: grid_chunk_files("selection"),
         record=lambda w: grid_chunk_files("record", "npz")[0],
@@ -41,7 +40,6 @@ rule grid_merge:
         record=res("grid/record_first_seed.npz"),
     log:
         res("logs/grid_merge.log"),
-    priority: IDENTIFICATION_FIRST
     localrule: True
     threads: 1
     resources:
@@ -53,10 +51,10 @@ rule grid_merge:
         "../scripts/merge_chunks.py"
 
 
-# Every grid table in one job (tables.py runs grid_table.py once per table).
+# Every grid table in one job (grid_table.py loops over them).
 rule grid_table:
     input:
-        code=GRID_TABLE_CODE,
+        code=code_inputs("workflow/scripts/grid_table.py"),
         published=config["published"],
         identified=res("grid/identified.csv"),
         selection=res("grid/selection.csv"),
@@ -69,23 +67,20 @@ rule grid_table:
         md=[res(f"tables/table_{n:02d}.md") for n in grid_tables()],
         notes=note_files(grid_tables()),
     log:
-        [res(f"logs/table_{n:02d}.log") for n in grid_tables()],
+        res("logs/grid_table.log"),
     threads: 1
     resources:
         mem_mb=300,
         runtime=10,
     params:
-        script="grid_table.py",
-        each=[{"wildcards": {"number": f"{n:02d}"}} for n in grid_tables()],
         spec=config.get("grid"),
-        first_seed=config.get("grid", {}).get("seeds", {}).get("first", 0),
     script:
-        "../scripts/tables.py"
+        "../scripts/grid_table.py"
 
 
 rule grid_figures:
     input:
-        code=GRID_PLOT_CODE,
+        code=code_inputs("workflow/scripts/grid_figures.py"),
         published=config["published"],
         record=res("grid/record_first_seed.npz"),
         selection=res("grid/selection.csv"),

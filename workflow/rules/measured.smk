@@ -4,7 +4,7 @@
 
 rule measured_identify:
     input:
-        ENGINE,
+        code=code_inputs("workflow/scripts/measured.py"),
         record=lambda w: config["measured"][w.name]["path"],
     output:
         modes=res("measured/{name}/modes.csv"),
@@ -16,7 +16,6 @@ rule measured_identify:
         res("logs/measured_{name}.log"),
     benchmark:
         res("benchmarks/measured_{name}.tsv")
-    priority: IDENTIFICATION_FIRST
     threads: 1
     resources:
         mem_mb=1000,

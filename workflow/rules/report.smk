@@ -1,12 +1,12 @@
 # The reproduction summary (computed once), the report notebooks (papermill)
 # and the HTML report (jinja2 template). Notebooks and the HTML read the
 # summary; they compute no verdict. Inputs are the files the notebooks read,
-# so a changed table, figure or summary re-executes them (all six, in one job).
+# so a changed table, figure or summary re-executes them.
 
 
 rule summary:
     input:
-        code=SUMMARY_CODE,
+        code=code_inputs("workflow/scripts/summary.py"),
         tables=[res(f"tables/table_{n:02d}.csv") for n in all_tables()],
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
@@ -22,38 +22,35 @@ rule summary:
         "../scripts/summary.py"
 
 
-# All notebooks in one job (run_notebook.py), in as many kernels as it has
-# threads, side by side: a kernel start and the thesis layer's imports cost
-# more than most notebooks' cells, and the notebooks are the workflow's last
-# step, so both kernels use cores that would otherwise idle.
+# One job per notebook (run_notebook.py, papermill's Python API).
 rule notebook:
     input:
-        code=NOTEBOOK_CODE,
+        code=lambda w: code_inputs(f"notebooks/{w.name}.ipynb"),
         captions=CAPTIONS,
-        data=sorted(set(d for name in NOTEBOOKS for d in notebook_inputs(name))),
-        notebooks=[f"notebooks/{name}.ipynb" for name in NOTEBOOKS],
+        data=lambda w: notebook_inputs(w.name),
+        notebook="notebooks/{name}.ipynb",
     output:
-        [res(f"notebooks/{name}.ipynb") for name in NOTEBOOKS],
+        res("notebooks/{name}.ipynb"),
     log:
-        # papermill writes each executed notebook here cell by cell: after a
+        # papermill writes the executed notebook here cell by cell: after a
         # failure it holds the traceback; on success it is copied to output.
-        notebooks=[res(f"logs/notebook_{name}.ipynb") for name in NOTEBOOKS],
-        text=res("logs/notebook.log"),
-    threads: 2
+        notebook=res("logs/notebook_{name}.ipynb"),
+        text=res("logs/notebook_{name}.log"),
+    wildcard_constraints:
+        name="|".join(NOTEBOOKS),
+    threads: 1
     resources:
-        mem_mb=1500,
+        mem_mb=800,
         runtime=10,
     params:
-        names=NOTEBOOKS,
-        order=NOTEBOOKS_LONGEST_FIRST,
-        parameters={name: notebook_parameters(name) for name in NOTEBOOKS},
+        parameters=lambda w: notebook_parameters(w.name),
     script:
         "../scripts/run_notebook.py"
 
 
 rule report_html:
     input:
-        code=REPORT_CODE,
+        code=code_inputs("workflow/scripts/report_html.py"),
         template=REPORT_TEMPLATES,
         captions=CAPTIONS,
         summary=SUMMARY,
@@ -69,6 +66,9 @@ rule report_html:
         runtime=10,
     params:
         titles=TABLE_TITLES,
+        measured=config.get("measured"),
+        # the config the run used, recorded in the report (its differences from the default)
+        used_config=config,
         configfiles=[os.path.relpath(f) for f in workflow.configfiles],
         run=RUN,
     script:

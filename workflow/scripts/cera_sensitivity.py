@@ -2,16 +2,13 @@
 import modal.thesis.intermediates
 import modal.thesis.plots
 import modal.thesis.tables
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("cera_sensitivity")
 start_job(snakemake)
 
 frames = modal.thesis.intermediates.read_interpretations(
-    snakemake.input.identified, snakemake.params.interpretations, snakemake.config["studies"]["cera"],
-    snakemake.config["seeds"])
-table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.first_seed)
+    snakemake.input.identified, snakemake.params.study["interpretations"], snakemake.params.study, snakemake.params.seeds)
+table = modal.thesis.tables.cera_sensitivity(frames, snakemake.params.seeds["first"])
 modal.thesis.tables.write_csv(table, snakemake.output.csv)
 panels = {case: f"Table {number}. {title}" for number, (case, title) in sorted(snakemake.params.tables.items())}
 modal.thesis.plots.cera_sensitivity_figure(table, snakemake.params.title, panels,

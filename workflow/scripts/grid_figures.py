@@ -6,10 +6,8 @@ import modal.thesis.grid_study as gs
 import modal.thesis.intermediates
 import modal.thesis.plots as plots
 import modal.thesis.tables
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("grid_figures")
 start_job(snakemake)
 
 spec, captions = snakemake.params.spec, snakemake.params.captions

@@ -2,10 +2,8 @@
 import numpy as np
 
 import modal.thesis.grid_study as gs
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("grid_identify", chunk=0)
 start_job(snakemake)
 
 spec = snakemake.params.spec

@@ -1,9 +1,7 @@
 """Identify one chunk of seeds of one study under one interpretation -> results/identified/chunks/*.csv."""
 import modal.thesis.study
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("identify", study="demo", interpretation="named", chunk=0)
 start_job(snakemake)
 
 frame = modal.thesis.study.run_study(snakemake.params.study, snakemake.params.beam, snakemake.params.signals,

@@ -2,12 +2,10 @@
 (the same files as `modal identify`: modal.write_identification)."""
 from pathlib import Path
 
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
 import modal
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("measured_identify", name="palisaden")
 start_job(snakemake)
 spec = snakemake.params.spec
 record = modal.read_record(snakemake.input.record, spec.get("fs"))

@@ -8,12 +8,8 @@ per job, measured), a script job in plain Python.
 """
 from pathlib import Path
 
-from _helpers import mock_snakemake
-
 from modal.thesis.chunks import merge_chunks, merge_grid_chunks
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("merge_identified", study="demo", interpretation="named")
 if snakemake.rule == "grid_merge":
     merge_grid_chunks(snakemake.input.identified, snakemake.input.selection, snakemake.input.record,
                       snakemake.output)

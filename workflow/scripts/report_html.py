@@ -9,10 +9,8 @@ import yaml
 import modal.thesis.html
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("report_html")
 start_job(snakemake)
 
 captions = yaml.safe_load(Path(snakemake.input.captions).read_text(encoding="utf-8"))
@@ -30,7 +28,7 @@ extras = []
 if "cera_sensitivity.png" in files:
     extras.append(dict(heading="CERA sensitivity to the Hankel width s", png=files["cera_sensitivity.png"],
                        caption=captions["extras"]["cera_sensitivity"]))
-for name, spec in sorted((snakemake.config.get("measured") or {}).items()):
+for name, spec in sorted((snakemake.params.measured or {}).items()):
     folder = f"measured/{name}/"
     paths = {Path(f).name: Path(f) for f in snakemake.input.outputs if folder in str(f)}
     modes = pd.read_csv(paths["modes.csv"])
@@ -43,7 +41,8 @@ for name, spec in sorted((snakemake.config.get("measured") or {}).items()):
     ))
 template = next(Path(t) for t in snakemake.input.template if t.endswith(".j2"))
 default = yaml.safe_load(Path(snakemake.input.default_config).read_text(encoding="utf-8"))
-provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.config, snakemake.params.configfiles)
+provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.params.used_config,
+                                             snakemake.params.configfiles)
 provenance["run"] = snakemake.params.run
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
                                        extras, provenance)

@@ -2,10 +2,8 @@
 graded verdict -> results/tables/summary.csv (the notebooks and the HTML read it)."""
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("summary")
 start_job(snakemake)
 
 tables = {}

@@ -1,22 +1,30 @@
-"""One thesis table: published beside reproduced -> table_NN.csv, .md and notes."""
+"""Every beam table of rule ``table``: published beside reproduced -> table_NN.csv, .md and notes.
+
+One job writes them all (the thesis layer is imported once); each table
+reads the identified files of its own study."""
+from pathlib import Path
+
 import modal.thesis.intermediates
 import modal.thesis.report
 import modal.thesis.tables
-from _helpers import mock_snakemake, start_job
+from _helpers import start_job
 
-if "snakemake" not in globals():
-    snakemake = mock_snakemake("table", number="04")
 start_job(snakemake)
 
-number = int(snakemake.wildcards.number)
 published = modal.thesis.tables.read_published(snakemake.input.published)
-study = snakemake.config["studies"][snakemake.params.spec["study"]]
-identified = modal.thesis.intermediates.read_interpretations(
-    snakemake.input.identified, snakemake.params.interpretations, study, snakemake.config["seeds"])
-table = modal.thesis.tables.compare(published[published["table"] == number], identified, snakemake.params.spec,
-                                    snakemake.params.methods, snakemake.params.first_seed)
-modal.thesis.tables.write_csv(table, snakemake.output.csv)
-notes = modal.thesis.report.table_notes(number, table)
-modal.thesis.report.write_notes(snakemake.output.notes, notes)
-with open(snakemake.output.md, "w") as fh:
-    fh.write(modal.thesis.tables.to_markdown(table, f"Table {number}. {snakemake.params.spec['title']}", notes))
+seeds = snakemake.params.seeds
+numbers = sorted(snakemake.params.tables)
+for number, csv, md, notes_file in zip(numbers, snakemake.output.csv, snakemake.output.md, snakemake.output.notes,
+                                       strict=True):
+    spec = snakemake.params.tables[number]
+    study = snakemake.params.studies[spec["study"]]
+    paths = [next(p for p in snakemake.input.identified if Path(p).name == f"{spec['study']}_{i}.csv")
+             for i in study["interpretations"]]
+    identified = modal.thesis.intermediates.read_interpretations(paths, study["interpretations"], study, seeds)
+    table = modal.thesis.tables.compare(published[published["table"] == number], identified, spec,
+                                        study["methods"], seeds["first"])
+    modal.thesis.tables.write_csv(table, csv)
+    notes = modal.thesis.report.table_notes(number, table)
+    modal.thesis.report.write_notes(notes_file, notes)
+    with open(md, "w") as fh:
+        fh.write(modal.thesis.tables.to_markdown(table, f"Table {number}. {spec['title']}", notes))

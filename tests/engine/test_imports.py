@@ -7,7 +7,7 @@ import sys
 from pathlib import Path
 
 HEAVY = ("matplotlib", "jinja2", "nbformat", "papermill", "snakemake", "yaml", "modal.thesis")
-ENGINE = Path(__file__).resolve().parents[1] / "modal"
+ENGINE = Path(__file__).resolve().parents[2] / "modal"
 
 
 def test_import_modal_loads_no_heavy_package():

@@ -6,7 +6,7 @@ the small test config end to end.
 Needs PyPI (or the index in UV_DEFAULT_INDEX / UV_INDEX_URL / PIP_INDEX_URL):
 skipped, with the reason, when it cannot be reached. uv's cache makes a
 repeated install quick; the two workflow runs take most of the time.
-Run alone with ``pytest -m slow tests/test_install.py``.
+Run alone with ``pytest -m slow tests/project/test_install.py``.
 """
 
 import os
@@ -20,7 +20,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "workflow"))
 from workflow_run import SMALL_CONFIG_FILE, copy_project  # noqa: E402
 

@@ -1,68 +1,21 @@
-"""The ERA's fast decomposition: leading singular triplets of H(0) from its Gram
-matrix, refined by Rayleigh-Ritz and checked, against closed form and the thin SVD."""
+"""The ERA's kernels on their own (private modules, tested beside their public
+function modal.era as scipy tests its private modules): the Gram-matrix
+route's LAPACK eigensolver and block-Hankel Gram product, the real-arithmetic
+eigensystem and the pole indicators, the realisation at one order."""
 
-import importlib
+import warnings
 
 import numpy as np
 import pytest
 
 import modal
+import modal.identification._era as era_module
+import modal.identification._era_kernels as kernels
+from modal.identification._era import pole_indicators, realise
+from modal.identification._era_kernels import block_hankel_gram, decompose, leading_eigenpairs
 
-era_module = importlib.import_module("modal.identification._era")
-kernels = importlib.import_module("modal.identification._era_kernels")
-decompose, realise, block_hankel_gram = kernels.decompose, era_module.realise, kernels.block_hankel_gram
-leading_eigenpairs = kernels.leading_eigenpairs
-
-THESIS_SAMPLES = 3594
-IRREGULAR = np.array([0.4, 1.1, 1.9, 2.3, 3.05, 3.7, 4.45])  # off the thesis's iL/7
-
-
-def _took_gram(h0, order, block):
-    """True when ``decompose`` kept the Gram route (it then returns ``order``
-    singular values; the thin SVD returns all of them)."""
-    return decompose(h0, order, method="gram", block=block)[3].size == order
-
-
-def _exact(res, omega, zeta, rtol=1e-8):
-    np.testing.assert_allclose(np.sort(res.omega), omega, rtol=rtol)
-    np.testing.assert_allclose(res.damping, zeta, rtol=rtol, atol=1e-10)
-    assert not res.real_pole.any()
-
-
-@pytest.mark.parametrize("signal", ["displacement", "velocity", "acceleration"])
-@pytest.mark.parametrize("zeta", [0.0, 0.005, 0.02, 0.05])
-def test_gram_route_exact_on_thesis_beam(demo, signal, zeta):
-    rec = demo["make"](THESIS_SAMPLES, damping=zeta)
-    y = getattr(rec, signal)
-    res = modal.era(y, demo["dt"], 6, rows=24, cols=100, svd="gram")
-    _exact(res, demo["omega"], zeta)
-    assert res.singular_values.size == 12  # the Gram route was kept, not the fallback
-    assert np.all(np.diag(modal.mac(res.shapes, rec.shapes)) > 0.9999)
-
-
-def test_auto_takes_gram_route_off_thesis_geometry(beam):
-    """7 irregular sensors, 2 data sets (impulses at two points), 320 x 600 Hankel:
-    "auto" takes the Gram route there and is exact."""
-    omega = beam.natural_frequencies(5)
-    dt = 2 * np.pi / omega[-1] / 12
-    sets = [modal.beam_impulse_response(beam, 5, x, IRREGULAR, dt, 800, 0.01).velocity for x in (1.3, 3.4)]
-    y = np.stack(sets)
-    res = modal.era(y, dt, 5, rows=40, cols=300)
-    _exact(res, omega, 0.01)
-    assert res.singular_values.size == 10
-    h0 = modal.hankel(y, 40, 300)
-    assert _took_gram(h0, 10, (7, 2))
-
-
-def _hard_beam(beam, modes=7, per_period=80, damping=0.01):
-    """Displacements sampled 80 times per period of the highest mode: the
-    singular values of H(0) span six decades (sigma_14 / sigma_1 ~ 2e-6), so
-    the Gram matrix's eigenvectors are wrong in the third digit."""
-    omega = beam.natural_frequencies(modes)
-    dt = 2 * np.pi / omega[-1] / per_period
-    rec = modal.beam_impulse_response(beam, modes, 1.3, IRREGULAR, dt, 6000, damping)
-    return rec.displacement, dt, omega
-
+from ..cases import flagged
+from .test_era import _hard_beam, _noisy_record, _took_gram
 
 def test_many_decades_refinement_restores_exactness(beam):
     y, dt, omega = _hard_beam(beam)
@@ -81,33 +34,18 @@ def test_many_decades_refinement_restores_exactness(beam):
 
     # Refined: kept on the Gram route, and exact.
     assert _took_gram(h0, 14, (l, 1))
-    res = modal.era(y, dt, 7, rows, cols, svd="gram")
+    res = flagged(modal.era, y, dt, 7, rows, cols, svd="gram")
     assert res.singular_values.size == 14
     # damping ratio to 1e-8 absolute (-Re s to 1e-8 |s|): at this conditioning the
     # thin SVD itself misses 0.01 by ~1e-9
     np.testing.assert_allclose(res.omega, omega, rtol=1e-8)
     np.testing.assert_allclose(res.damping, 0.01, atol=1e-8)
-    full = modal.era(y, dt, 7, rows, cols, svd="full")
+    full = flagged(modal.era, y, dt, 7, rows, cols, svd="full")
     errors = [(res.omega / omega - 1, full.omega / omega - 1), (res.damping - 0.01, full.damping - 0.01)]
     for fast_err, full_err in errors:
         # no worse than the thin SVD, or within the issue's 1e-8 (the two differ in
         # rounding: 1.6e-9 against 5.9e-9 with the pinned numpy/OpenBLAS)
         assert np.max(np.abs(fast_err)) <= max(3 * np.max(np.abs(full_err)), 1e-8)
-
-
-def test_falls_back_when_gram_matrix_cannot_resolve(beam):
-    """sigma_12 / sigma_1 ~ 3e-9: lambda_12 sits below the Gram matrix's rounding,
-    so the thin SVD is used and the result is the full-SVD ERA's."""
-    y, dt, _ = _hard_beam(beam, modes=6, per_period=200)
-    h0 = modal.hankel(y, 40, 400)
-    p, d, qt, sv = decompose(h0, 12, method="gram", block=(7, 1))
-    u, s, vt = np.linalg.svd(h0, full_matrices=False)
-    assert sv.size == min(h0.shape)
-    np.testing.assert_array_equal(d, s[:12])
-    np.testing.assert_array_equal(p, u[:, :12])
-    gram = modal.era(y, dt, 6, 40, 400, svd="gram")
-    full = modal.era(y, dt, 6, 40, 400, svd="full")
-    np.testing.assert_array_equal(gram.omega, full.omega)
 
 
 def _block_diagonal(rng):
@@ -185,62 +123,6 @@ def test_leading_eigenpairs_falls_back_when_a_lapack_step_fails(monkeypatch, rou
     np.testing.assert_allclose(u.T @ u, np.eye(20), atol=1e-13)
 
 
-def test_falls_back_when_residual_check_fails():
-    """A plain matrix (no block structure) whose 24th singular value is 1e-6 of the
-    first and the 25th 0.9 of it: the Gram eigenvectors are wrong by an angle of
-    ~1e-5 and Rayleigh-Ritz shrinks it by only 0.81 a step, so the residual check
-    must send it to the thin SVD."""
-    rng = np.random.default_rng(7)
-    n_rows, n_cols, order = 240, 500, 24
-    sigma = np.concatenate([np.logspace(0, -6, order), 0.9e-6 * np.logspace(0, -3, n_rows - order)])
-    u = np.linalg.qr(rng.standard_normal((n_rows, n_rows)))[0]
-    v = np.linalg.qr(rng.standard_normal((n_cols, n_rows)))[0]
-    h0 = (u * sigma) @ v.T
-    p, d, qt, sv = decompose(h0, order, method="gram")
-    assert sv.size == n_rows
-    np.testing.assert_allclose(d, sigma[:order], rtol=1e-6)
-    # a gap of 10 after the 24th value: one Rayleigh-Ritz step leaves a residual
-    # of ~1e-12, a second passes the check; a gap of 1e6: one step suffices
-    for gap in (10, 1e6):
-        sigma[order:] = 1e-6 / gap * np.logspace(0, -3, n_rows - order)
-        h0 = (u * sigma) @ v.T
-        p, d, qt, sv = decompose(h0, order, method="gram")
-        assert sv.size == order
-        np.testing.assert_allclose(d, sigma[:order], rtol=1e-8)
-        np.testing.assert_allclose(np.abs(np.sum(p * u[:, :order], axis=0)), 1, atol=1e-6)
-
-
-def _noisy_record(n_channels=12, n_samples=8000, seed=0):
-    rng = np.random.default_rng(seed)
-    w = np.linspace(5.0, 300.0, n_channels)
-    rec = modal.impulse_response(w, rng.standard_normal((n_channels, n_channels)), np.ones(n_channels),
-                                 0.005, n_samples, 0.01)
-    return modal.with_noise(rec, 0.02, seed + 1).acceleration
-
-
-@pytest.mark.parametrize("seed", [0, 1, 2])
-def test_noisy_agrees_with_full_svd(seed):
-    y = _noisy_record(seed=seed)
-    fast = modal.era(y, 0.01, 12, rows=40, cols=1000)
-    full = modal.era(y, 0.01, 12, rows=40, cols=1000, svd="full")
-    assert fast.singular_values.size == 24  # "auto" took the Gram route on 480 x 1000
-    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
-    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-6, atol=1e-9)
-    np.testing.assert_allclose(np.abs(np.diag(modal.mac(fast.shapes, full.shapes))), 1, atol=1e-6)
-    np.testing.assert_allclose(fast.singular_values, full.singular_values[:24], rtol=1e-10)
-
-
-def test_noisy_several_sets_taller_than_wide():
-    """3 data sets, 480 x 300 Hankel: the Gram matrix is that of the columns."""
-    y = np.stack([_noisy_record(n_samples=300, seed=s) for s in range(3)])
-    h0 = modal.hankel(y, 40, 100)
-    assert h0.shape == (480, 300) and _took_gram(h0, 24, (12, 3))
-    fast = modal.era(y, 0.01, 12, rows=40, cols=100, svd="gram")
-    full = modal.era(y, 0.01, 12, rows=40, cols=100, svd="full")
-    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
-    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-6, atol=1e-9)
-
-
 def test_decompose_serves_every_order_up_to_120():
     """One Gram decomposition at order 120, truncated to lower orders (as a
     stabilisation diagram does), matches the thin SVD's at every order."""
@@ -267,51 +149,10 @@ def test_block_hankel_gram_is_the_product(sets, transpose):
     np.testing.assert_allclose(block_hankel_gram(a, *block), a @ a.T, rtol=1e-12, atol=1e-12 * np.abs(a).max() ** 2)
 
 
-@pytest.mark.parametrize("bad", ["fast", "SVD", None, 1])
-def test_method_keyword_refused(demo, bad):
-    rec = demo["make"](400)
-    with pytest.raises(ValueError, match="svd must be one of"):
-        modal.era(rec.acceleration, demo["dt"], 6, rows=24, cols=100, svd=bad)
-    with pytest.raises(ValueError, match="method must be one of"):
-        decompose(modal.hankel(rec.acceleration, 24, 100), 12, method=bad)
-
-
-def test_decompose_order_checked():
-    with pytest.raises(ValueError, match="^order = 6 exceeds"):
-        decompose(np.ones((5, 8)), 6)
-    with pytest.raises(ValueError, match="^order must"):
-        decompose(np.ones((5, 8)), 0)
-
-
-def test_decompose_a_single_triplet_by_gram():
-    """order = 1 on the Gram route: the leading singular triplet, as the thin SVD's
-    (the absolute tolerance is relative to sigma_1, the only one there is)."""
-    h0 = np.random.default_rng(3).standard_normal((40, 60))
-    p, d, qt, sv = decompose(h0, 1, method="gram")
-    u, s, vt = np.linalg.svd(h0, full_matrices=False)
-    assert sv.size == 1
-    np.testing.assert_allclose(d, s[:1], rtol=1e-12)
-    np.testing.assert_allclose(np.abs(p[:, 0] @ u[:, 0]), 1, rtol=1e-12)
-    np.testing.assert_allclose(np.abs(qt[0] @ vt[0]), 1, rtol=1e-12)
-
-
 def test_block_hankel_gram_of_two_block_rows():
     """Two block rows: the second block row comes from the recursion too."""
     h = modal.hankel(np.random.default_rng(4).standard_normal((1, 90, 5)), 2, 40)
     np.testing.assert_allclose(block_hankel_gram(h, 5, 1), h @ h.T, rtol=1e-12, atol=1e-12 * np.abs(h).max() ** 2)
-
-
-def test_block_checked():
-    h0 = modal.hankel(np.random.default_rng(0).standard_normal((90, 3)), 10, 40)
-    for bad in [(4, 1), (3, 2), (0, 1), 3, ("3", 1)]:
-        with pytest.raises(ValueError, match="block"):
-            decompose(h0, 4, method="gram", block=bad)
-    with pytest.raises(ValueError, match="not a block Hankel"):
-        decompose(np.random.default_rng(1).standard_normal(h0.shape), 4, method="gram", block=(3, 1))
-    # shifted copies of themselves, but 5 rows are not whole blocks of 2, nor 8 columns of 3
-    for shape, block in [((5, 8), (2, 1)), ((6, 8), (1, 3))]:
-        with pytest.raises(ValueError, match="not a block Hankel"):
-            decompose(np.ones(shape), 1, method="gram", block=block)
 
 
 def test_eigen_poles_match_the_complex_eigendecomposition():
@@ -408,3 +249,76 @@ def test_eigen_poles_refuse_nan_naming_the_argument(name):
         era_module.eigen_poles(**args)
     with pytest.raises(ValueError, match=r"^phi must be a square matrix, got shape \(2, 3\)"):
         era_module.eigen_poles(np.ones((2, 3)), np.ones((1, 3)), np.ones((3, 5)))
+
+
+def test_pole_indicators_of_an_overflowing_spurious_pole_are_silent():
+    """A spurious pole |z| = 50 over 400 block columns: its powers overflow
+    (50^399 > 1e308), so its MAMC is 0 (as documented), without a floating-point
+    warning, whether the poles are complex or all real; the physical pole
+    beside it (damping 3 %) keeps MAMC 1."""
+
+    dt, omega, zeta, n_cols, n_sets = 0.01, 2 * np.pi * 4.2, 0.03, 400, 2
+    z = np.array([np.exp((-zeta + 1j * np.sqrt(1 - zeta**2)) * omega * dt), 50.0])
+    b = np.array([[1.0, 2.0 - 1j], [1.0, -1.0]])  # initial amplitudes per data set
+    powers = np.array([z[0] ** np.arange(n_cols), np.full(n_cols, 50.0**5)])  # the spurious history saturates
+    histories = (powers[:, :, None] * b[:, None, :]).reshape(2, n_cols * n_sets)
+    shapes = np.array([[1.0, 0.3], [0.5j, 1.0]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z, np.array([False, True]), shapes, histories, dt, n_sets)
+    np.testing.assert_allclose(out["mamc"], [1.0, 0.0], atol=1e-12)
+    assert out["damping"][0] == pytest.approx(zeta, rel=1e-9) and np.isnan(out["damping"][1])
+    assert out["omega"][0] == pytest.approx(omega, rel=1e-9)
+    np.testing.assert_array_equal(out["unstable"], [False, True])
+    # all poles real: numpy's eigvals returns them as a real array, whose powers
+    # overflow to inf without NaN, so the coherence is inf / inf = NaN before it is set to 0
+    z_real = np.array([0.5, 50.0])
+    histories = np.array([0.5 ** np.arange(n_cols), 50.0 ** np.minimum(np.arange(n_cols), 5)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z_real, np.array([True, True]), shapes, histories, dt, 1)
+    np.testing.assert_allclose(out["mamc"], [1.0, 0.0], atol=1e-12)
+
+
+def test_pole_indicators_of_a_pole_at_the_origin_are_silent():
+    """A state matrix with a zero eigenvalue (e.g. a realisation of zero-padded
+    data) gives a real pole at z = 0: s = ln z / dt is -inf, so its frequency
+    is inf and its damping NaN (a real pole's), without a floating-point
+    warning; the pole beside it is unaffected."""
+
+    dt = 0.01
+    z = np.array([0.0, 0.9 * np.exp(0.3j)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        out = pole_indicators(z, np.array([True, False]), np.array([[1.0, 1.0], [0.5, 1j]]),
+                              np.ones((2, 8), complex), dt, 1)
+    assert out["omega"][0] == np.inf and np.isnan(out["damping"][0]) and not out["unstable"][0]
+    assert out["omega"][1] == pytest.approx(np.hypot(np.log(0.9), 0.3) / dt, rel=1e-12)
+
+
+def test_realise_at_one_order_reports_the_kept_singular_values():
+    """realise() alone (one decomposition, any order) reports the kept
+    singular values and the poles of modal.era: two real poles (e^{-t},
+    e^{-2t}) and one damped pair."""
+    dt = 0.05
+    t = dt * np.arange(400)
+    y = np.column_stack([np.exp(-t) + np.exp(-0.05 * t) * np.sin(3 * t), np.exp(-2 * t) - np.exp(-0.05 * t) * np.sin(3 * t)])
+    res = flagged(modal.era, y, dt, 2, rows=20, cols=300)
+    h = modal.hankel(y, 21, 300)
+    p, d, qt, _ = decompose(h[:-2], 4)
+    low = realise(p, d, qt, h[2:], n_channels=2, n_sets=1, dt=dt)
+    np.testing.assert_array_equal(low.singular_values, d)
+    np.testing.assert_allclose(low.omega, res.omega, rtol=1e-12)
+
+
+@pytest.mark.parametrize("modulus", [0.05, 0.99, 20.0])
+def test_a_pair_at_a_small_angle_is_one_complex_pole(modulus):
+    """An oscillation at 1e-8 rad a sample (a mode at 1.6e-9 of the sampling
+    rate), inside, near or outside the unit circle, is a complex pair (one
+    pole with Im z > 0), not two real poles."""
+    sin = 1e-8
+    phi = modulus * np.array([[np.sqrt(1 - sin**2), -sin], [sin, np.sqrt(1 - sin**2)]])
+    rng = np.random.default_rng(13)
+    z, real, _, _ = era_module.eigen_poles(phi, rng.standard_normal((2, 2)), rng.standard_normal((2, 10)))
+    assert z.shape == (1,) and not real.any()
+    assert z[0].imag == pytest.approx(modulus * sin, rel=1e-6)

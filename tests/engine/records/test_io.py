@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from modal.records._io import load_record, save_record_npz, write_uff58
+from modal.records import load_record, read_record, save_record_npz, write_uff58
 
 DT = 1 / 200
 
@@ -189,7 +189,6 @@ def test_npz_boolean_dt_refused(tmp_path, acc):
 
 
 def test_uff_keeps_node_direction_units(tmp_path, acc):
-    from modal.records._io import read_record
 
     path = write_uff58(tmp_path / "rec.uff", acc, DT, nodes=[11, 12, 17], direction=2)
     record = read_record(path)
@@ -199,7 +198,6 @@ def test_uff_keeps_node_direction_units(tmp_path, acc):
 
 
 def test_lvm_multi_x_columns(tmp_path, acc):
-    from modal.records._io import read_record
 
     header = (
         "LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\nDecimal_Separator\t.\n"

@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 
-REPO_ROOT = Path(__file__).resolve().parents[1]
+REPO_ROOT = Path(__file__).resolve().parents[2]
 CSV_PATH = REPO_ROOT / "config" / "thesis_tables.csv"
 # The thesis text is not part of the project: it is looked for beside the
 # checkout (``../shared/thesis.txt``) or where MODAL_THESIS_TEXT points.

@@ -10,7 +10,7 @@ from packaging.utils import canonicalize_name
 
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 sys.path.insert(0, str(ROOT / "workflow"))
 import lock_check  # noqa: E402
@@ -77,6 +77,7 @@ def test_self_referencing_extras_expand():
     assert canonicalize_name(PYPROJECT["project"]["name"]) not in names
 
 
+@pytest.mark.slow
 def test_building_the_project_prints_no_deprecation(tmp_path):
     """Issue 12: `license = {text = ...}` made setuptools print a deprecation
     three times per install; the SPDX string form with setuptools >= 77 does not."""

@@ -1,41 +1,16 @@
-"""The virtual AFAL grid (thesis Sec. 7.1-7.2): finite-element model, exact
-time integration, the virtual shaking test, the manual steps, bad input."""
-
+"""The virtual shaking test of the grid (thesis Sec. 7.2): exact time
+integration, the record's layout, the manual steps (sharpest channels, peak
+picking), bad input."""
 
 import numpy as np
 import pytest
-import scipy.linalg
 from scipy.integrate import solve_ivp
 
 import modal
-from modal.structures._shake_test import (
-    foh_modal_response,
-    force_burst,
-    pick_peaks,
-    select_sharpest,
-    shake_test,
-    sharpness,
-)
-from modal.structures._grid import Grid
+from modal.structures import pick_peaks, select_sharpest, shake_test, sharpness
+from modal.structures._shake_test import foh_modal_response
 
-
-
-@pytest.fixture(scope="module")
-def model(thesis_grid_config):
-    """The tuned grid's parameters (config ``grid.model``)."""
-    return thesis_grid_config["model"]
-
-
-@pytest.fixture(scope="module")
-def grid(model):
-    return Grid(**model)
-
-
-@pytest.fixture(scope="module")
-def settings(thesis_grid_config):
-    """The thesis's shaking test (config ``grid.test``) without sensor noise."""
-    return {k: v for k, v in thesis_grid_config["test"].items() if k != "noise"}
-
+from ..cases import flagged
 
 @pytest.fixture(scope="module")
 def noisy(grid, settings):
@@ -43,67 +18,6 @@ def noisy(grid, settings):
     return shake_test(grid, **settings, noise=0.02, seed=1)
 
 
-# ---------------------------------------------------------------- the model
-def test_strips_alone_are_euler_bernoulli_cantilevers(model):
-    # Horizontal strips of negligible stiffness and mass, no gravity, no sensor
-    # masses: each vertical strip is a clamped-free beam of length `height`,
-    # f_k = (beta_k L)^2 / (2 pi L^2) sqrt(EI / (rho A)), four times over.
-    grid = Grid(**{**model, "gravity": 0, "sensor_mass": 0, "n_horizontal": 24, "horizontal_y": None,
-                   "thickness_horizontal": 1e-7, "strip_width_horizontal": 1e-4, "elements_per_bay": 1})
-    b, t = grid.section(0)
-    ei, rho_a = grid.youngs_modulus * b * t**3 / 12, grid.density * b * t
-    beta_l = np.array([1.87510407, 4.69409113, 7.85475744])
-    exact = beta_l**2 / (2 * np.pi * grid.height**2) * np.sqrt(ei / rho_a)
-    np.testing.assert_allclose(grid.frequencies_hz(12), np.repeat(exact, 4), rtol=2e-5)
-
-
-def test_modes_above_10_hz(grid):
-    omega, _ = grid.modes(fmax_hz=50)
-    assert np.sum(omega / (2 * np.pi) > 10) >= 5
-
-
-def test_matrices_symmetric_positive_definite(model, grid):
-    for name, a in (("K", grid.stiffness()), ("M", grid.mass())):
-        assert np.allclose(a, a.T, rtol=0, atol=1e-13 * np.abs(a).max()), name
-        scipy.linalg.cholesky(a)  # raises LinAlgError unless positive definite
-    scipy.linalg.cholesky(Grid(**{**model, "gravity": 0}).stiffness())  # elastic part alone
-
-
-def test_modes_are_mass_normalised_and_complete(grid):
-    K, M = grid.stiffness(), grid.mass()
-    omega, phi = grid.modes()
-    np.testing.assert_allclose(phi.T @ M @ phi, np.eye(omega.size), atol=1e-9)
-    np.testing.assert_allclose(phi.T @ K @ phi, np.diag(omega**2), atol=1e-9 * omega[-1] ** 2)
-    # Independent check of the modal force and static response: sum over all
-    # modes phi phi^T F / omega^2 = K^{-1} F for a unit force at a corner.
-    f = np.zeros(K.shape[0])
-    f[grid.dof(19)] = 1.0
-    static = np.linalg.solve(K, f)
-    np.testing.assert_allclose((phi / omega**2) @ (phi.T @ f), static, atol=1e-6 * np.abs(static).max())
-
-
-def test_mesh_convergence(model):
-    coarse = Grid(**{**model, "elements_per_bay": 4}).frequencies_hz(4)
-    fine = Grid(**{**model, "elements_per_bay": 8}).frequencies_hz(4)
-    assert np.max(np.abs(fine / coarse - 1)) < 0.01
-
-
-def test_gravity_stiffens_the_hanging_grid(model, grid):
-    assert Grid(**{**model, "gravity": 0}).frequencies_hz(1)[0] < 0.7 * grid.frequencies_hz(1)[0]
-
-
-def test_crossings_and_dofs(grid):
-    nodes, xy = grid.crossings()
-    assert nodes.size == 20 and np.array_equal(nodes, np.arange(20))
-    np.testing.assert_allclose(xy[0], [0.0, 0.37])
-    np.testing.assert_allclose(xy[-1], [1.0, 0.0])
-    assert np.unique(grid.dof(nodes)).size == 20
-    clamped = int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])
-    with pytest.raises(ValueError, match="clamped"):
-        grid.dof(clamped)
-
-
-# ---------------------------------------------------------------- time integration
 def test_foh_integration_matches_solve_ivp(grid):
     """Exact first-order-hold stepping against DOP853 on the modal ODEs."""
     omega, _ = grid.modes(4)
@@ -166,12 +80,11 @@ def test_era_is_exact_on_a_noise_free_virtual_test(grid, settings):
     """Free decay of the modes kept, no filter: ERA recovers them to 1e-6."""
     st = shake_test(grid, **{**settings, "fmax_hz": 10.0})
     assert st.omega.size == 5
-    result = modal.era(st.acceleration, st.dt, st.omega.size, rows=8, cols=400)
+    result = flagged(modal.era, st.acceleration, st.dt, st.omega.size, rows=8, cols=400)
     np.testing.assert_allclose(np.sort(result.omega), st.omega, rtol=1e-6)
     np.testing.assert_allclose(result.damping[np.argsort(result.omega)], st.damping, rtol=1e-5)
 
 
-# ---------------------------------------------------------------- manual steps
 def test_select_sharpest(noisy):
     chosen = select_sharpest(noisy.acceleration, noisy.dt, k=6, fmax=10)
     assert chosen.size == 6 and np.unique(chosen).size == 6
@@ -192,7 +105,6 @@ def test_pick_peaks_finds_the_four_lowest(noisy):
     assert np.all(np.abs(est - noisy.freq_hz[:4]) < resolution)
 
 
-# ---------------------------------------------------------------- bad input
 def test_bad_input(grid, settings, noisy):
     acc, dt = noisy.acceleration, noisy.dt
     bad = acc.copy()
@@ -217,26 +129,3 @@ def test_bad_input(grid, settings, noisy):
         select_sharpest(acc, dt, k=12)
     with pytest.raises(ValueError, match="fewer than n_peaks"):
         pick_peaks(acc, dt, n_peaks=50, fmax=7.5)
-
-
-def test_bad_parameters(model, grid, settings):
-    with pytest.raises(ValueError, match="thickness"):
-        Grid(**{**model, "thickness": -1e-3})
-    with pytest.raises(ValueError, match="horizontal_y"):
-        Grid(**{**model, "horizontal_y": (0.1, 0.2, 0.3, 0.4, 0.5)})
-    with pytest.raises(ValueError, match="poisson"):
-        Grid(**{**model, "poisson": 0.5})
-    with pytest.raises(ValueError, match="clamped"):
-        shake_test(grid, **{**settings, "sensors": [int(np.flatnonzero(np.isclose(grid.coordinates[:, 1], grid.height))[0])]})
-    with pytest.raises(ValueError, match="node"):
-        shake_test(grid, **{**settings, "force_nodes": [10_000]})
-    with pytest.raises(ValueError, match="damping"):
-        shake_test(grid, **{**settings, "damping": 1.5})
-    with pytest.raises(ValueError, match="distinct"):
-        shake_test(grid, **{**settings, "sensors": [0, 0]})
-    with pytest.raises(ValueError, match="fmax_hz"):
-        shake_test(grid, **{**settings, "fmax_hz": 0.1})
-    with pytest.raises(ValueError, match="grid"):
-        shake_test("grid", **settings)
-    with pytest.raises(ValueError, match="force_rms"):
-        force_burst(10, 1, 0.005, rms=0)

@@ -1,0 +1,135 @@
+"""identify_record: the measured-record pipeline behind `modal identify`
+(preprocessing, NExT correlations or the free decay, the diagram), on the
+ambient beam, a closed-form free decay and the Palisaden record."""
+
+import warnings
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import modal
+
+from ..cases import BEAM, DAMPING, PALISADEN, PALISADEN_MODES_HZ, SENSORS_X, ambient_beam
+
+def test_ambient_beam_frequencies_and_damping_from_stabilisation():
+    acc, dt, f_exact = ambient_beam()
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=40, fmax=f_exact[2] * 1.3)
+    f = result.modes["freq_hz"].to_numpy()
+    assert len(f) == 3
+    np.testing.assert_allclose(f, f_exact, rtol=0.005)
+    # Damping from 400 s of white noise: a 25 % statistical tolerance.
+    np.testing.assert_allclose(result.modes["damping"], DAMPING, rtol=0.25)
+    shapes_exact = BEAM.mode_shapes(SENSORS_X, 3)
+    assert np.all(np.diag(modal.mac(result.shapes, shapes_exact)) > 0.99)
+
+
+def test_free_decay_closed_form_with_decay_start():
+    """Damped cosines after 300 samples of noise: decay_start finds the
+    impact and the stabilisation the exact poles."""
+    dt = 1 / 500
+    f_exact, zeta = np.array([7.3, 31.0, 64.0]), np.array([0.004, 0.01, 0.02])
+    shapes = BEAM.mode_shapes(SENSORS_X[:3], 3)
+    t = dt * np.arange(4000)
+    modal_decay = np.exp(-zeta * 2 * np.pi * f_exact * t[:, None]) * np.cos(
+        2 * np.pi * f_exact * np.sqrt(1 - zeta**2) * t[:, None])
+    rng = np.random.default_rng(4)
+    acc = np.vstack([np.zeros((300, 3)), modal_decay @ shapes.T]) + 1e-4 * rng.standard_normal((4300, 3))
+    assert modal.decay_start(acc) == 300
+    result, _ = modal.identify_record(acc, dt, "free_decay", max_order=30, rows=60)
+    np.testing.assert_allclose(result.modes["freq_hz"], f_exact, rtol=1e-3)
+    np.testing.assert_allclose(result.modes["damping"], zeta, rtol=0.05)
+
+
+def test_palisaden_three_modes_within_half_a_percent():
+    acc, dt = modal.load_record(PALISADEN, fs=20)
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=60, fmax=5, highpass_hz=0.5)
+    f = result.modes["freq_hz"].to_numpy()
+    for published in PALISADEN_MODES_HZ:
+        assert np.min(np.abs(f - published)) / published < 0.005
+    assert np.all(result.modes["damping"].between(0.005, 0.05))
+
+
+def _run(call, *args, **kwargs):
+    """``call(*args, **kwargs)`` and the messages of the ModalWarnings it issued
+    (random records give diagrams with few or no modes, which warn)."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = call(*args, **kwargs)
+    assert all(issubclass(w.category, modal.ModalWarning) for w in caught), [str(w.message) for w in caught]
+    return out, [str(w.message) for w in caught]
+
+
+def _same_diagram(got, expected):
+    """identify_record's diagram and warnings equal those of modal.stabilisation called on ``expected`` data."""
+    (result, dt), got_warnings = got
+    reference, expected_warnings = expected
+    assert got_warnings == expected_warnings
+    pd.testing.assert_frame_equal(result.poles, reference.poles, rtol=1e-9)
+    pd.testing.assert_frame_equal(result.modes, reference.modes, rtol=1e-9)
+    np.testing.assert_allclose(result.singular_values, reference.singular_values, rtol=1e-10)
+    return dt
+
+
+def test_identify_record_ambient_preprocessing():
+    """Ambient: detrend, decimate by floor(fs / (2.5 fmax)) when that is at
+    least 2, high-pass, then NExT correlations with 2 rows + 1 lags from the
+    chosen references; rows default to max(60, ceil(2 max_order / n_channels)).
+    The diagram is the stabilisation of exactly those correlations."""
+    rng = np.random.default_rng(8)
+    acc = rng.standard_normal((3000, 3)) + 0.01 * np.arange(3000)[:, None]
+    criteria, calls = modal.StabilityCriteria(min_poles=4), []
+    # fs = 100 Hz, fmax = 15 Hz: q = floor(100 / 37.5) = 2
+    got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=10, fmax=15.0, refs=[1], highpass_hz=0.5,
+               criteria=criteria, progress=lambda done, total: calls.append((done, total)))
+    y, dt = modal.decimate(modal.detrend(acc), 0.01, 2)
+    data = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1])
+    assert _same_diagram(got, _run(modal.stabilisation, data, 0.02, 10, 60, fmax=15.0, criteria=criteria)) == 0.02
+    assert calls == [(i, 5) for i in range(1, 6)]  # orders 2 ... 10
+
+    # fmax = 30 Hz: q = floor(100 / 75) = 1, no decimation; 2 * 100 / 3 channels: 67 rows, 135 lags
+    got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=100, fmax=30.0)
+    expected = _run(modal.stabilisation, modal.correlations(modal.detrend(acc), 135), 0.01, 100, 67, fmax=30.0)
+    assert _same_diagram(got, expected) == 0.01
+    # the defaults: orders up to 60, 60 rows, 121 lags from every channel
+    got = _run(modal.identify_record, acc, 0.01, "ambient")
+    assert _same_diagram(got, _run(modal.stabilisation, modal.correlations(modal.detrend(acc), 121), 0.01, 60, 60)) == 0.01
+    # the lags may fill half the record: 151 of 302 samples (751 of 1502), not 153 (753)
+    got = _run(modal.identify_record, acc[:302], 0.01, "ambient", rows=75)
+    expected = _run(modal.stabilisation, modal.correlations(modal.detrend(acc[:302]), 151), 0.01, 60, 75)
+    assert _same_diagram(got, expected) == 0.01
+    with pytest.raises(ValueError, match="^rows = 376 needs 753 lags, more than half the 1502-sample record"):
+        modal.identify_record(acc[:1502], 0.01, "ambient", rows=376)
+    with pytest.raises(ValueError, match="^rows = 76 needs 153 lags, more than half the 302-sample record"):
+        modal.identify_record(acc[:302], 0.01, "ambient", rows=76)
+
+
+def test_identify_record_free_decay_window():
+    """Free decay: the record from decay_start on, at most 10 rows columns
+    (fewer when the decay is shorter), down to a single column."""
+    rng = np.random.default_rng(9)
+    k = np.arange(800)
+    decay = 0.995**k[:, None] * np.cos(np.array([0.2, 0.35]) * k[:, None])
+    acc = np.vstack([0.01 * rng.standard_normal((200, 2)), decay])
+    start = modal.decay_start(modal.detrend(acc))
+    assert start == 200
+    for rows, cols in ((50, 500), (80, 720)):
+        got = _run(modal.identify_record, acc, 0.01, "free_decay", rows=rows)
+        expected = _run(modal.stabilisation, modal.detrend(acc), 0.01, 60, rows, cols=cols, start=200)
+        assert _same_diagram(got, expected) == 0.01
+    # 799 rows leave one column: H(0) is 1598 x 1, too small for any order
+    with pytest.raises(ValueError, match=r"^max_order = 2 exceeds the smaller dimension of H\(0\) \(1598 x 1\)"):
+        modal.identify_record(acc, 0.01, "free_decay", rows=799, max_order=2)
+    with pytest.raises(ValueError, match="^rows = 800: the decay after sample 200 is too short; reduce rows$"):
+        modal.identify_record(acc, 0.01, "free_decay", rows=800)
+
+
+def test_identify_record_refusals_name_the_argument():
+    acc = np.random.default_rng(10).standard_normal((1000, 2))
+    for kwargs, message in [({"dt": 0.0}, "^dt must"), ({"max_order": 1}, "^max_order must be an integer >= 2"),
+                            ({"rows": 0}, "^rows must"), ({"fmax": 0.0}, "^fmax must"),
+                            ({"fmax": 50.0}, "^fmax = 50.0 Hz must be below the Nyquist frequency 50 Hz$")]:
+        with pytest.raises(ValueError, match=message):
+            modal.identify_record(acc, **({"dt": 0.01, "excitation": "ambient", "rows": 20} | kwargs))
+    (result, dt), _ = _run(modal.identify_record, acc, 0.01, "ambient", max_order=2, rows=20, fmax=49.9)
+    assert dt == 0.01 and set(result.poles["order"]) <= {2}
