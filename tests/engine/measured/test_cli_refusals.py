@@ -184,7 +184,8 @@ def test_complete_results_replace_the_previous_ones(tmp_path, capsys):
     (out / "notes.txt").write_text("mine\n")
     code, _, _ = _run(capsys, "identify", PALISADEN, *PALISADEN_OPTIONS, "--out", out)
     assert code == 0
-    assert sorted(p.name for p in out.iterdir()) == ["modes.csv", "notes.txt", "poles.csv", "stabilisation.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["candidates.csv", "complex_shapes.csv", "modes.csv", "notes.txt",
+                                                     "poles.csv", "stabilisation.png"]
     assert len(pd.read_csv(out / "modes.csv")) >= 3
     _no_partial_files(tmp_path)
 

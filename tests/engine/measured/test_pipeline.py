@@ -75,28 +75,34 @@ def test_identify_record_ambient_preprocessing():
     """Ambient: detrend, decimate by floor(fs / (2.5 fmax)) when that is at
     least 2, high-pass, then NExT correlations with 2 rows + 1 lags from the
     chosen references; rows default to max(60, ceil(2 max_order / n_channels)).
-    The diagram is the stabilisation of exactly those correlations."""
+    The diagram is the stabilisation of exactly those correlations (of the
+    detrended record divided by the power of two nearest its peak)."""
+
+    def detrended(y):
+        y = modal.detrend(y)
+        return y / 2.0 ** np.frexp(np.abs(y).max())[1]
+
     rng = np.random.default_rng(8)
     acc = rng.standard_normal((3000, 3)) + 0.01 * np.arange(3000)[:, None]
     criteria, calls = modal.StabilityCriteria(min_poles=4), []
     # fs = 100 Hz, fmax = 15 Hz: q = floor(100 / 37.5) = 2
     got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=10, fmax=15.0, refs=[1], highpass_hz=0.5,
                criteria=criteria, progress=lambda done, total: calls.append((done, total)))
-    y, dt = modal.decimate(modal.detrend(acc), 0.01, 2)
+    y, dt = modal.decimate(detrended(acc), 0.01, 2)
     data = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1])
     assert _same_diagram(got, _run(modal.stabilisation, data, 0.02, 10, 60, fmax=15.0, criteria=criteria)) == 0.02
     assert calls == [(i, 5) for i in range(1, 6)]  # orders 2 ... 10
 
     # fmax = 30 Hz: q = floor(100 / 75) = 1, no decimation; 2 * 100 / 3 channels: 67 rows, 135 lags
     got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=100, fmax=30.0)
-    expected = _run(modal.stabilisation, modal.correlations(modal.detrend(acc), 135), 0.01, 100, 67, fmax=30.0)
+    expected = _run(modal.stabilisation, modal.correlations(detrended(acc), 135), 0.01, 100, 67, fmax=30.0)
     assert _same_diagram(got, expected) == 0.01
     # the defaults: orders up to 60, 60 rows, 121 lags from every channel
     got = _run(modal.identify_record, acc, 0.01, "ambient")
-    assert _same_diagram(got, _run(modal.stabilisation, modal.correlations(modal.detrend(acc), 121), 0.01, 60, 60)) == 0.01
+    assert _same_diagram(got, _run(modal.stabilisation, modal.correlations(detrended(acc), 121), 0.01, 60, 60)) == 0.01
     # the lags may fill half the record: 151 of 302 samples (751 of 1502), not 153 (753)
     got = _run(modal.identify_record, acc[:302], 0.01, "ambient", rows=75)
-    expected = _run(modal.stabilisation, modal.correlations(modal.detrend(acc[:302]), 151), 0.01, 60, 75)
+    expected = _run(modal.stabilisation, modal.correlations(detrended(acc[:302]), 151), 0.01, 60, 75)
     assert _same_diagram(got, expected) == 0.01
     with pytest.raises(ValueError, match="^rows = 376 needs 753 lags, more than half the 1502-sample record"):
         modal.identify_record(acc[:1502], 0.01, "ambient", rows=376)
