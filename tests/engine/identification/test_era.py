@@ -274,9 +274,10 @@ def test_noisy_agrees_with_full_svd(seed):
     fast = flagged(modal.era, y, 0.01, 12, rows=40, cols=1000)
     full = flagged(modal.era, y, 0.01, 12, rows=40, cols=1000, svd="full")
     assert fast.singular_values.size == 24  # "auto" took the Gram route on 480 x 1000
-    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-6)
-    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-6, atol=1e-9)
-    np.testing.assert_allclose(np.abs(np.diag(modal.mac(fast.shapes, full.shapes))), 1, atol=1e-6)
+    # what the Gram route achieves (seeds 0-4: 7.5e-14, 8.7e-12 and 7e-16 at worst)
+    np.testing.assert_allclose(fast.omega, full.omega, rtol=1e-12)
+    np.testing.assert_allclose(fast.damping, full.damping, rtol=1e-10)
+    np.testing.assert_allclose(np.abs(np.diag(modal.mac(fast.shapes, full.shapes))), 1, atol=1e-13)
     np.testing.assert_allclose(fast.singular_values, full.singular_values[:24], rtol=1e-10)
 
 
