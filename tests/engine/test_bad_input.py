@@ -275,7 +275,11 @@ def test_smallest_accepted_sizes():
     # TCM: lag + l + 1 samples (and at least 3)
     rng = np.random.default_rng(3)
     assert flagged(modal.tcm, rng.standard_normal((5, 3)), 0.01, lag=1).n_modes == 3
-    assert flagged(modal.tcm, rng.standard_normal((3, 2)), 0.01, vel=rng.standard_normal((3, 2))).n_modes == 2
+    # (random vel and acc are no velocity and acceleration of one motion, and 3 samples a short window: warned)
+    with pytest.warns(modal.ModalWarning) as caught:
+        assert modal.tcm(rng.standard_normal((3, 2)), 0.01, vel=rng.standard_normal((3, 2))).n_modes == 2
+    assert [str(w.message).split(":")[1].split("(")[0].strip() for w in caught] == [
+        "vel and acc are not velocity and acceleration of one motion in the same units", "short window"]
     with pytest.raises(ValueError, match="too few samples"):
         flagged(modal.tcm, rng.standard_normal((4, 3)), 0.01, lag=1)
     # ERA: 2 n_modes equal to the smaller Hankel dimension (l r = 6, m s = 8)
