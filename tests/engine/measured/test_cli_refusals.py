@@ -110,20 +110,6 @@ def test_out_where_nothing_can_be_created_is_refused(capsys, noise, folder):
     assert not out.exists()
 
 
-def test_out_in_an_unwritable_folder_is_refused(capsys, noise, tmp_path):
-    locked = tmp_path / "locked"
-    locked.mkdir()
-    locked.chmod(0o555)
-    try:
-        if os.access(locked, os.W_OK):
-            pytest.skip("this user (root) can write to a read-only folder")
-        code, _, err = _run(capsys, "identify", noise, "--fs", 100, "--ambient", "--out", locked / "out")
-        assert code == EXIT_BAD_OPTIONS
-        assert "not writable" in _one_line(err)
-    finally:
-        locked.chmod(0o755)
-
-
 def _small_file_limit():
     """In the child: files may not grow beyond 2000 bytes (modes.csv fits,
     poles.csv does not), and writing more fails with an OSError (EFBIG)
