@@ -19,8 +19,8 @@ import it when they are drawn.
 
 from .identification import (FLAGS, ModalResult, ModalWarning, Stabilisation, StabilityCriteria, align_shapes, cera,
                              decompose, era, hankel, mac, modal_amplitude_coherence, modal_phase_collinearity,
-                             stabilisation, tcm)
-from .measured import (OutputError, available_memory, identify_record, memory_needed, stabilisation_figure,
+                             stabilisation, stabilisation_figure, tcm)
+from .measured import (OutputError, available_memory, identify_record, memory_needed,
                        write_identification)
 from .records import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
 from .signals import (acceleration_offset, amplitude_spectrum, correlations, decay_start, decimate, detrend, integrate_acceleration,

@@ -4,12 +4,13 @@ The generalised Hankel matrix (Eq. 34), the Eigensystem Realization
 Algorithm (Eqs. 34-45), the Temporal Correlation Method (Eqs. 21-31), the
 Constrained ERA (Eqs. 46-52), accuracy indicators (MAC, MPC, MAMC), the
 common result (:class:`ModalResult`) and the stabilisation diagram with
-automatic mode selection.
+automatic mode selection (drawn by :func:`stabilisation_figure`).
 """
 
 from ._cera import cera
 from ._era import era
 from ._era_kernels import decompose
+from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
 from ._result import FLAGS, ModalResult, ModalWarning
@@ -19,5 +20,5 @@ from ._tcm import tcm
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "Stabilisation", "StabilityCriteria", "align_shapes", "cera",
     "decompose", "era", "hankel", "mac", "modal_amplitude_coherence", "modal_phase_collinearity",
-    "stabilisation", "tcm",
+    "stabilisation", "stabilisation_figure", "tcm",
 ]

@@ -203,7 +203,7 @@ class Stabilisation:
 
     def plot(self, fmax=None, title=None, ax=None):
         """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""
-        from ..measured import stabilisation_figure  # matplotlib only when drawn
+        from ._figures import stabilisation_figure  # matplotlib only when drawn
 
         return stabilisation_figure(self, fmax=fmax, title=title, ax=ax)
 

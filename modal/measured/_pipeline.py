@@ -408,7 +408,7 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
         }).to_csv(staging / "complex_shapes.csv", index=False, float_format="%.6g")
         result.candidates.to_csv(staging / "candidates.csv", index=False, float_format="%.6g")
         result.poles.to_csv(staging / "poles.csv", index=False, float_format="%.6g")
-        from ._figures import stabilisation_figure
+        from ..identification import stabilisation_figure
 
         figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
         figure.savefig(staging / "stabilisation.png", dpi=120)

@@ -29,7 +29,7 @@ def test_stabilisation_figure_draws_each_group_up_to_fmax():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from modal.measured import stabilisation_figure
+    from modal.identification import stabilisation_figure
 
     result = _hand_made_diagram()
     fig, ax = plt.subplots()

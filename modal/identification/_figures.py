@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .._checks import positive_float
-from ..identification import Stabilisation
+from ._stabilisation import Stabilisation
 
 
 def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None):
