@@ -77,4 +77,10 @@ def main():
 
 
 if __name__ == "__main__":
+    import argparse
+
+    # No options: --help explains, anything else is refused (a long run never starts by mistake).
+    argparse.ArgumentParser(description=__doc__,
+                            epilog="Run without arguments to start the benchmark (it takes minutes).",
+                            formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     main()

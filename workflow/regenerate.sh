@@ -17,4 +17,7 @@ if command -v flock >/dev/null && ! flock -n 9; then
     exit 3
 fi
 python workflow/stale_locks.py "$ROOT"
+# Config files are data: refused here, before Snakemake loads (and would
+# evaluate a yte template in) a --configfile.
+python workflow/check_configfiles.py "$@"
 snakemake --workflow-profile workflow/profiles/default --cores "${CORES:-all}" "$@"

@@ -7,8 +7,10 @@ its key."""
 
 from __future__ import annotations
 
+import math
+import os
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -20,6 +22,17 @@ from .chunks import study_cases
 NUMBERED = (("tables",), ("shape_figures",), ("noise_figures",), ("grid", "tables"))
 #: Schema keywords whose failure on a fraction or ratio gets a hint on the intended value.
 FRACTION_KEYS = ("noise", "damping")
+#: A config is a page of settings: larger files, and YAML aliases beyond these
+#: (an alias bomb expands a few lines into billions of nodes), are refused
+#: before the file is read as data.
+MAX_CONFIG_BYTES = 1_000_000
+MAX_ALIASES = 100
+MAX_CONFIG_NODES = 100_000
+#: Most identification jobs (beam and grid chunks) one plan may hold.
+MAX_IDENTIFY_JOBS = 10_000
+#: Keys of yte, the template engine Snakemake runs over a config that sets
+#: ``__use_yte__: true``: a config is data, never code.
+YTE_KEYS = ("__use_yte__", "__definitions__", "__variables__")
 
 
 class _StrictLoader(yaml.SafeLoader):
@@ -54,6 +67,121 @@ def load_strict(path) -> dict:
             return yaml.load(fh, Loader=_StrictLoader) or {}
     except ValueError as exc:
         raise ValueError(f"config file {path}: {exc}") from None
+    except yaml.YAMLError as exc:
+        raise ValueError(f"config file {path}: not plain YAML data: {exc}") from None
+
+
+def check_config_text(path) -> None:
+    """Refuse a config file that is not plain data, reading its raw text
+    (nothing evaluated, no alias expanded): larger than
+    :data:`MAX_CONFIG_BYTES`, more than :data:`MAX_ALIASES` aliases or
+    :data:`MAX_CONFIG_NODES` nodes once expanded, a yte key
+    (``__use_yte__``, ...) or a string starting with ``?`` (which yte, the
+    template engine Snakemake applies to a config setting ``__use_yte__:
+    true``, would evaluate as Python).
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the key.
+    """
+    size = os.stat(path).st_size
+    if size > MAX_CONFIG_BYTES:
+        raise ValueError(f"config file {path}: {size} bytes, more than the {MAX_CONFIG_BYTES} a config may have")
+    with open(path, "rb") as fh:
+        text = fh.read()
+    try:
+        n_aliases = sum(isinstance(e, yaml.AliasEvent) for e in yaml.parse(text, Loader=yaml.SafeLoader))
+        if n_aliases > MAX_ALIASES:
+            raise ValueError(f"{n_aliases} YAML aliases (*name), more than {MAX_ALIASES}: write the values out")
+        root = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.YAMLError as exc:
+        raise ValueError(f"config file {path}: not valid YAML: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"config file {path}: {exc}") from None
+    if root is None:
+        return
+    # Each node once (an alias points to a node already seen): linear in the text.
+    sizes, seen, stack = {}, set(), [(root, "")]
+    while stack:
+        node, key = stack.pop()
+        if id(node) in seen:
+            continue
+        seen.add(id(node))
+        if isinstance(node, yaml.ScalarNode):
+            text_value = str(node.value)
+            if text_value in YTE_KEYS or text_value.startswith("?"):
+                where = key or "(top level)"
+                raise ValueError(f"config file {path}: {where}: {text_value!r} is a yte template expression; "
+                                 "a config is data, never evaluated: write plain values (and no __use_yte__)")
+        elif isinstance(node, yaml.MappingNode):
+            for k, v in node.value:
+                label = k.value if isinstance(k, yaml.ScalarNode) else "?"
+                name = f"{key}.{label}" if key else str(label)
+                stack += [(k, name), (v, name)]
+        elif isinstance(node, yaml.SequenceNode):
+            stack += [(v, f"{key}[{i}]") for i, v in enumerate(node.value)]
+    if _expanded_nodes(root, sizes) > MAX_CONFIG_NODES:
+        raise ValueError(f"config file {path}: more than {MAX_CONFIG_NODES} values once its aliases are expanded")
+
+
+def _expanded_nodes(node, sizes) -> int:
+    """Nodes of ``node`` with every alias expanded, each shared node counted
+    once per use but computed once (``sizes`` memoises; iterative)."""
+    stack = [(node, False)]
+    while stack:
+        current, done = stack.pop()
+        if id(current) in sizes:
+            continue
+        children = ([x for pair in current.value for x in pair] if isinstance(current, yaml.MappingNode)
+                    else list(current.value) if isinstance(current, yaml.SequenceNode) else [])
+        if done:
+            sizes[id(current)] = 1 + sum(sizes[id(c)] for c in children)
+        else:
+            stack.append((current, True))
+            stack += [(c, False) for c in children if id(c) not in sizes]
+    return sizes[id(node)]
+
+
+def check_config_files(configfiles: Sequence, argv: Sequence[str] = ()) -> None:
+    """What the Snakefile checks before Snakemake reads ``config/config.yaml``
+    (its ``configfile:`` directive would run yte over a template): the raw
+    text of every file (:func:`check_config_text`), and a command line that
+    gives ``--configfile`` more than once (Snakemake keeps only the last
+    occurrence's files and silently drops the others).
+
+    Parameters
+    ----------
+    configfiles : sequence of path
+        ``config/config.yaml`` and ``workflow.configfiles``.
+    argv : sequence of str
+        ``sys.argv`` of the snakemake command.
+    """
+    given = configfile_options(argv)
+    if len(given) > 1:
+        dropped = [f for files in given[:-1] for f in files]
+        everything = " ".join(f for files in given for f in files)
+        raise ValueError(f"--configfile is given {len(given)} times: Snakemake keeps only the last one "
+                         f"({' '.join(given[-1])}) and would silently ignore {' '.join(dropped)}; "
+                         f"give all files after one option: --configfile {everything}")
+    for path in configfiles:
+        check_config_text(path)
+
+
+def configfile_options(argv: Sequence[str]) -> list[list[str]]:
+    """The files after each ``--configfile``/``--configfiles`` (or an
+    abbreviation argparse accepts, ``--configf``...) of a command line."""
+    given, current = [], None
+    for arg in list(argv)[1:]:
+        name, eq, value = arg.partition("=")
+        if name.startswith("--configf") and "--configfiles".startswith(name):
+            current = [value] if eq else []
+            given.append(current)
+        elif arg.startswith("-"):
+            current = None
+        elif current is not None:
+            current.append(arg)
+    return given
 
 
 def check_workflow_config(config: dict, configfiles, schema) -> None:
@@ -70,10 +198,77 @@ def check_workflow_config(config: dict, configfiles, schema) -> None:
         ``workflow/schemas/config.schema.yaml``.
     """
     for path in configfiles:
+        check_config_text(path)
         load_strict(path)
     normalise_numbers(config)
+    problems = nonfinite(config)
+    if problems:
+        raise ValueError("invalid config:\n  " + "\n  ".join(problems))
     validate(config, schema)
     check(config)
+    if configfiles:
+        check_run_name(config, configfiles[0])
+
+
+def check_run_name(config: Mapping, default_file) -> None:
+    """Refuse a config that differs from the default (``default_file``,
+    ``config/config.yaml``) but keeps the run ``default``, whose outputs
+    overwrite ``results/``, where this folder's git commits the thesis's
+    tables (``results/tables``). A parameter study names its run instead
+    (``--config run=<name>`` or ``run: <name>`` in its file) and writes
+    under ``results/runs/<name>/``. Outside a git work tree, or where git
+    tracks no ``results/tables``, nothing committed can be overwritten.
+
+    Raises
+    ------
+    ValueError
+        Naming the keys that differ and how to name the run.
+    """
+    if config.get("run", "default") != "default":
+        return
+    default = load_strict(default_file)
+    normalise_numbers(default)
+    changed = sorted(set(_flat(default).items()) ^ set(_flat(config).items()))
+    if not changed or not _committed("results/tables"):
+        return
+    keys = sorted({key for key, _ in changed})
+    shown = ", ".join(keys[:5]) + (f" and {len(keys) - 5} more" if len(keys) > 5 else "")
+    raise ValueError(f"invalid config:\n  run = 'default' with a config that differs from {default_file} "
+                     f"({shown}): its outputs would overwrite the committed results/tables. Name the run: "
+                     "--config run=<name> or 'run: <name>' in your config file (outputs go to results/runs/<name>/)")
+
+
+def _flat(node, key="") -> dict:
+    """Dotted key -> leaf value (lists as tuples, so that they compare and hash)."""
+    if isinstance(node, Mapping) and node:
+        return {k2: v2 for k, v in node.items() for k2, v2 in _flat(v, f"{key}.{k}" if key else str(k)).items()}
+    if isinstance(node, list):
+        return {key: repr(node)}
+    return {key: repr(node) if isinstance(node, Mapping) else node}
+
+
+def _committed(path) -> bool:
+    """Whether git tracks files under ``path`` in the work tree around the current folder."""
+    import subprocess
+
+    try:
+        done = subprocess.run(["git", "ls-files", "--", path], capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.SubprocessError):
+        return False
+    return done.returncode == 0 and bool(done.stdout.strip())
+
+
+def nonfinite(config, key="") -> list[str]:
+    """Every NaN or infinite number in ``config`` (``.nan``, ``.inf`` in
+    YAML), by dotted key: JSON-schema bounds compare false with NaN and so
+    let it through."""
+    if isinstance(config, Mapping):
+        return [p for k, v in config.items() for p in nonfinite(v, f"{key}.{k}" if key else str(k))]
+    if isinstance(config, list):
+        return [p for i, v in enumerate(config) for p in nonfinite(v, f"{key}.{i}")]
+    if isinstance(config, float) and not math.isfinite(config):
+        return [f"{key} = {config!r}: not a finite number"]
+    return []
 
 
 def normalise_numbers(config: dict) -> None:
@@ -150,6 +345,8 @@ def _describe(err) -> str:
     if err.validator == "required":
         return f"{key}: {err.message}"
     text = f"{key} = {err.instance!r}: {err.message}"
+    if err.validator in ("pattern", "maxLength") and "description" in err.schema:
+        return f"{key}: {err.message}: {err.schema['description']}"
     leaf = str(err.absolute_path[-1]) if err.absolute_path else ""
     value = err.instance
     if err.validator == "type" and "integer" in str(err.validator_value) and isinstance(value, float):
@@ -236,13 +433,34 @@ def check(config: Mapping) -> None:
                 problems.append(f"shape_figures.{number}.case = {fig['case']!r} is not a case of studies.demo")
             if fig["method"] not in studies["demo"]["methods"]:
                 problems.append(f"shape_figures.{number}.method = {fig['method']!r} is not run in studies.demo")
-    problems += path_problems(config) + case_problems(config)
+    problems += path_problems(config) + case_problems(config) + plan_problems(config)
     if "grid" in config:
         problems += grid_problems(config["grid"])
         if not problems and config["grid"]["source"] == "measured":
             problems += record_problems(config["grid"])
     if problems:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+
+
+def _n_chunks(seeds: Mapping) -> int:
+    """``len(seed_chunks(seeds))`` without building the list."""
+    return -(-seeds["count"] // (seeds.get("chunk") or seeds["count"]))
+
+
+def plan_problems(config: Mapping) -> list[str]:
+    """A plan of more than :data:`MAX_IDENTIFY_JOBS` identification jobs
+    (noisy studies x interpretations x seed chunks, plus the grid's chunks),
+    refused before Snakemake builds it."""
+    n_beam = 0
+    for study in config["studies"].values():
+        noisy = any(c["noise"] > 0 for c in study_cases(study).values())
+        n_beam += len(study["interpretations"]) * (_n_chunks(config["seeds"]) if noisy else 1)
+    grid = config.get("grid")
+    n_grid = _n_chunks(grid["seeds"]) if grid and grid["source"] == "virtual" else (1 if grid else 0)
+    if n_beam + n_grid > MAX_IDENTIFY_JOBS:
+        return [f"seeds: the plan would hold {n_beam + n_grid} identification jobs ({n_beam} beam, {n_grid} grid), "
+                f"more than {MAX_IDENTIFY_JOBS}: raise seeds.chunk / grid.seeds.chunk or lower the counts"]
+    return []
 
 
 def grid_problems(grid: Mapping) -> list[str]:
@@ -342,14 +560,26 @@ def measured_problems(key: str, spec: Mapping) -> list[str]:
     for i, c in enumerate(spec.get("channels") or []):
         if c >= n_channels:
             problems.append(f"{key}.channels[{i}] = {c}: the record has {n_channels} channels (0..{n_channels - 1})")
+    # refs are the record's channel numbers, among those used (modal.write_identification)
     for i, r in enumerate(spec.get("refs") or []):
-        if r >= len(channels):
-            problems.append(f"{key}.refs[{i}] = {r}: only {len(channels)} channels are used (0..{len(channels) - 1})")
+        if r not in channels:
+            problems.append(f"{key}.refs[{i}] = {r}: not among the channels used {channels} "
+                            "(refs are the record's channel numbers, like channels)")
+    nyquist = record.fs / 2
+    for name in ("fmax", "highpass_hz"):
+        value = spec.get(name)
+        if value is not None and value >= nyquist:
+            problems.append(f"{key}.{name} = {value} Hz must be below the Nyquist frequency {nyquist:g} Hz "
+                            f"(fs = {record.fs:g} Hz)")
+    if spec.get("fmax") is not None and spec.get("highpass_hz") is not None and spec["highpass_hz"] >= spec["fmax"]:
+        problems.append(f"{key}.highpass_hz = {spec['highpass_hz']} Hz must be below fmax = {spec['fmax']} Hz")
     return problems
 
 
-#: "zeta = .05" / "eta = 5 %" in a table title, checked against the table's case.
-_TITLE_VALUES = {"damping": re.compile(r"zeta = (\d*\.?\d+)"), "noise": re.compile(r"eta = (\d*\.?\d+) %")}
+#: "ζ = .05" / "η = 5 %" in a table title (as the thesis writes them; "zeta",
+#: "eta" too), checked against the table's case.
+_TITLE_VALUES = {"damping": re.compile(r"(?<!\w)(?:ζ|zeta)\s*=\s*(\d*\.?\d+)"),
+                 "noise": re.compile(r"(?<!\w)(?:η|eta)\s*=\s*(\d*\.?\d+)\s*%")}
 
 
 def case_problems(config: Mapping) -> list[str]:

@@ -41,18 +41,32 @@ FORMATS = {"reproduced": "{:.4f}", "std": "{:.4f}", "seed0": "{:.4f}", "publishe
            "n_within_noise": "{:.0f}"}
 
 
-def styled(frame: pd.DataFrame):
-    """A table for reading: numbers to the digits that matter, a relative
-    deviation in percent, missing values blank, no index."""
-    formats = {c: f for c, f in FORMATS.items() if c in frame}
-    return frame.style.hide(axis="index").format(formats, na_rep="")
+def styled(frame: pd.DataFrame, formats=None):
+    """A table for reading: numbers to the digits that matter (``formats``
+    adds column -> format), a relative deviation in percent, missing values
+    blank, no index, text escaped (a title from a config is text, never HTML)."""
+    formats = {c: f for c, f in {**FORMATS, **(formats or {})}.items() if c in frame}
+    text = [c for c in frame if c not in formats and not pd.api.types.is_numeric_dtype(frame[c])]
+    style = frame.style.hide(axis="index").format(formats, na_rep="")
+    return style.format(subset=text, escape="html", na_rep="") if text else style
+
+
+def escape_markdown_html(text: str) -> str:
+    """``<``, ``>`` and ``&`` outside code spans as HTML entities: Markdown
+    passes raw HTML through, and a table title or note is text, never HTML
+    (inside backticks Markdown shows them literally already)."""
+    import html
+
+    parts = text.split("`")
+    return "`".join(part if i % 2 else html.escape(part, quote=False) for i, part in enumerate(parts))
 
 
 def markdown(text: str) -> None:
-    """Markdown with '*' (the thesis's real-pole mark) kept literal."""
+    """Markdown with '*' (the thesis's real-pole mark) kept literal and any
+    HTML in it shown as text (:func:`escape_markdown_html`)."""
     from IPython.display import Markdown
 
-    _display(Markdown(text.replace("*", r"\*")))
+    _display(Markdown(escape_markdown_html(text).replace("*", r"\*")))
 
 
 class Results:
@@ -127,7 +141,7 @@ class Results:
                        "max_abs_rel_dev", "worst", "verdict", "why"]]
         shown = shown.assign(max_abs_rel_dev=100 * shown["max_abs_rel_dev"]).rename(
             columns={"max_abs_rel_dev": "largest |deviation| (%)"})
-        _display(HTML(styled(shown).format({"largest |deviation| (%)": "{:.3g}"}, na_rep="").to_html()))
+        _display(HTML(styled(shown, {"largest |deviation| (%)": "{:.3g}"}).to_html()))
         if definitions:
             markdown("\n".join(f"- {d}" for d in VERDICT_DEFINITIONS))
         return frame

@@ -108,7 +108,7 @@ BAD = [
     # the measured records list: opened and checked before any job
     ("measured.palisaden.path", "tests/data/missing.npy", ["measured.palisaden.path = 'tests/data/missing.npy': no such"]),
     ("measured.palisaden.channels", [0, 9], ["measured.palisaden.channels[1] = 9: the record has 6 channels"]),
-    ("measured.palisaden.refs", [1, 7], ["measured.palisaden.refs[1] = 7: only 6 channels are used"]),
+    ("measured.palisaden.refs", [1, 7], ["measured.palisaden.refs[1] = 7: not among the channels used"]),
     ("measured.palisaden.excitation", "impact", ["measured.palisaden.excitation = 'impact'"]),
     ("measured.palisaden.max_order", 61, ["measured.palisaden.max_order = 61"]),
 ]

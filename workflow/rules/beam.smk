@@ -71,6 +71,7 @@ rule table:
         mem_mb=300,
         runtime=10,
     params:
+        sha256=content_hashes(config["published"]),
         tables={n: table_spec(n) for n in table_numbers()},
         studies={
             study_of_table(n): config["studies"][study_of_table(n)]

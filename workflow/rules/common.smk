@@ -1,5 +1,7 @@
 # Helpers only: file lists derived from config, and the code each rule reads.
 # Snakemake wants rules and functions in separate files.
+import functools
+import hashlib
 import os
 import yaml
 from pathlib import Path
@@ -25,6 +27,27 @@ wildcard_constraints:
     study=r"[^/]+",
     interpretation=r"[^/_]+",
     chunk=r"\d+",
+
+
+# --- raw inputs enter with their content ------------------------------------------
+# Snakemake reruns a job when an input is newer than its outputs. A raw input
+# replaced by different content with an older time (`cp -p`, an unpacked
+# archive, a restored backup) would go unseen; so each raw input (published
+# values, records, captions, the default config) also enters its rule's
+# params as its SHA-256, and the params trigger reruns the job whatever the mtime.
+@functools.cache
+def sha256(path):
+    """SHA-256 of the file at ``path`` (read once per planning)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def content_hashes(*paths):
+    """``{path: sha256}`` of raw input files, for a rule's ``params``."""
+    return {str(p): sha256(p) for p in paths}
 
 
 # --- code inputs ---------------------------------------------------------------

@@ -24,6 +24,7 @@ rule grid_identify:
     params:
         spec=config.get("grid"),
         chunk=lambda w: int(w.chunk),
+        sha256=content_hashes(*grid_inputs()),
     script:
         "../scripts/grid_identify.py"
 

@@ -22,5 +22,6 @@ rule measured_identify:
         runtime=10,
     params:
         spec=lambda w: config["measured"][w.name],
+        sha256=lambda w: content_hashes(config["measured"][w.name]["path"]),
     script:
         "../scripts/measured.py"

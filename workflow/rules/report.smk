@@ -44,6 +44,7 @@ rule notebook:
         runtime=10,
     params:
         parameters=lambda w: notebook_parameters(w.name),
+        sha256=content_hashes(CAPTIONS, config["published"]),
     script:
         "../scripts/run_notebook.py"
 
@@ -65,6 +66,7 @@ rule report_html:
         mem_mb=400,
         runtime=10,
     params:
+        sha256=content_hashes(CAPTIONS, "config/config.yaml"),
         titles=TABLE_TITLES,
         measured=config.get("measured"),
         # the config the run used, recorded in the report (its differences from the default)

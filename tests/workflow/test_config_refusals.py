@@ -1,0 +1,283 @@
+"""A config is data, finite, bounded and named: what the workflow refuses
+before any job (docs/reliability.md). Most checks call
+``modal.thesis.config`` directly; a few dry runs show the Snakefile refusing
+before any job, and ``workflow/check_configfiles.py`` (run by
+``workflow/regenerate.sh`` before Snakemake) refusing before anything is
+evaluated."""
+
+import copy
+import subprocess
+import sys
+import time
+
+import pytest
+import yaml
+
+import modal.thesis.config as mc
+from workflow_run import ROOT, SMALL_CONFIG_FILE, copy_project, run_snakemake
+
+SCHEMA = ROOT / "workflow/schemas/config.schema.yaml"
+YTE = """__use_yte__: true
+seeds:
+  first: 0
+  count: ?open("evaluated.txt", "w").write("x") or 3
+"""
+
+
+def base_config():
+    return yaml.safe_load((ROOT / "config/config.yaml").read_text())
+
+
+def _set(config, path, value):
+    node = config
+    keys = path.split(".")
+    for key in keys[:-1]:
+        node = node[key] if key in node else node[int(key)]
+    node[int(keys[-1]) if keys[-1].isdigit() and keys[-1] not in node else keys[-1]] = value
+    return config
+
+
+def refusal(config, monkeypatch, configfiles=()):
+    monkeypatch.chdir(ROOT)
+    with pytest.raises(ValueError) as err:
+        mc.check_workflow_config(config, list(configfiles), SCHEMA)
+    return str(err.value)
+
+
+@pytest.fixture(scope="module")
+def project(tmp_path_factory):
+    """A copy of the project (no results), for dry runs."""
+    return copy_project(tmp_path_factory.mktemp("refusals"))
+
+
+# --- 1. a config is data: yte refused ------------------------------------------------
+def test_yte_template_refused_by_the_text_check(tmp_path):
+    path = tmp_path / "yte.yaml"
+    path.write_text(YTE)
+    with pytest.raises(ValueError, match=r"yte.yaml: seeds.count: .*yte template expression"):
+        mc.check_config_text(path)
+    path.write_text("__use_yte__: true\nseeds: {first: 0, count: 3}\n")
+    with pytest.raises(ValueError, match="__use_yte__"):
+        mc.check_config_text(path)
+    assert not (tmp_path / "evaluated.txt").exists()
+
+
+def test_yte_in_a_layered_config_refused_before_snakemake_evaluates_it(project):
+    """regenerate.sh's pre-check refuses the file; nothing is evaluated."""
+    (project / "yte.yaml").write_text(YTE)
+    proc = subprocess.run([sys.executable, "workflow/check_configfiles.py", "-n", "--configfile", "yte.yaml"],
+                          cwd=project, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2, proc.stderr
+    assert "yte.yaml: seeds.count" in proc.stderr and "yte template" in proc.stderr
+    assert not (project / "evaluated.txt").exists()
+
+
+def test_yte_in_a_layered_config_refused_by_the_snakefile_before_any_job(project):
+    """Plain snakemake evaluates a --configfile's template while parsing its
+    command line, before the Snakefile runs (measured with Snakemake 9.27);
+    the Snakefile then refuses before any job."""
+    (project / "yte.yaml").write_text(YTE)
+    proc = run_snakemake(project, "-n", "--configfile", "yte.yaml", check=False)
+    (project / "evaluated.txt").unlink(missing_ok=True)
+    assert proc.returncode != 0
+    assert "yte.yaml: seeds.count" in proc.stdout + proc.stderr
+    assert "Job stats" not in proc.stdout + proc.stderr
+
+
+def test_yte_in_the_default_config_refused_before_it_is_evaluated(tmp_path):
+    work = copy_project(tmp_path)
+    default = work / "config/config.yaml"
+    default.write_text("__use_yte__: true\n" + default.read_text().replace(
+        "seeds:", 'unused: ?open("evaluated.txt", "w").write("x")\nseeds:', 1))
+    proc = run_snakemake(work, "-n", check=False)
+    assert proc.returncode != 0
+    assert "config/config.yaml: " in proc.stdout + proc.stderr
+    assert not (work / "evaluated.txt").exists()
+
+
+# --- 2. --configfile given twice ----------------------------------------------------------
+def test_configfile_twice_refused(project):
+    (project / "other.yaml").write_text("seeds: {first: 0, count: 2}\n")
+    proc = run_snakemake(project, "-n", "--configfile", SMALL_CONFIG_FILE, "--configfile", "other.yaml", check=False)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode != 0
+    assert f"--configfile {SMALL_CONFIG_FILE} other.yaml" in out, out[-2000:]
+
+
+@pytest.mark.parametrize("argv, refused", [
+    (["snakemake", "--configfile", "a.yaml", "b.yaml"], False),
+    (["snakemake", "--configfile", "a.yaml", "-n", "--configfiles", "b.yaml"], True),
+    (["snakemake", "--configfile=a.yaml", "--configf", "b.yaml"], True),
+    (["snakemake", "--config", "run=x", "--configfile", "a.yaml"], False),
+])
+def test_configfile_options_counted(argv, refused):
+    if refused:
+        with pytest.raises(ValueError, match="--configfile a.yaml b.yaml"):
+            mc.check_config_files([], argv)
+    else:
+        mc.check_config_files([], argv)
+
+
+# --- 3. finite numbers, physical bounds, Nyquist, run names ------------------------
+NONFINITE = [
+    ("studies.demo.cases.c3.noise", float("nan")),
+    ("studies.demo.cases.c2.damping", float("nan")),
+    ("studies.noise.noise_sweep.noise", [0.03, float("nan")]),
+    ("beams.beam5.length", float("inf")),
+    ("beams.beam5.bending_stiffness", float("nan")),
+    ("beams.beam5.samples_per_period", float("nan")),
+    ("grid.test.fs", float("inf")),
+    ("grid.test.noise", float("nan")),
+    ("grid.model.youngs_modulus", float("-inf")),
+    ("grid.cases.lp10", float("nan")),
+    ("measured.palisaden.fmax", float("nan")),
+]
+
+
+@pytest.mark.parametrize("path, value", NONFINITE, ids=[p for p, _ in NONFINITE])
+def test_nonfinite_numbers_refused_naming_the_key(path, value, monkeypatch):
+    message = refusal(_set(base_config(), path, value), monkeypatch)
+    assert "not a finite number" in message and path.split(".")[-1] in message, message
+
+
+def test_nonfinite_from_yaml_text(tmp_path, monkeypatch):
+    """``.nan`` and ``.inf`` as a user writes them."""
+    layer = yaml.safe_load("beams: {beam5: {length: .nan}}\ngrid: {test: {fs: .inf}}")
+    config = base_config()
+    config["beams"]["beam5"].update(layer["beams"]["beam5"])
+    config["grid"]["test"].update(layer["grid"]["test"])
+    message = refusal(config, monkeypatch)
+    assert "beams.beam5.length = nan" in message and "grid.test.fs = inf" in message
+
+
+@pytest.mark.parametrize("key, value, fragment", [
+    ("fmax", 10, "measured.palisaden.fmax = 10 Hz must be below the Nyquist frequency 10 Hz"),
+    ("fmax", 25.0, "measured.palisaden.fmax = 25.0 Hz must be below the Nyquist"),
+    ("highpass_hz", 10.5, "measured.palisaden.highpass_hz = 10.5 Hz must be below the Nyquist"),
+    ("highpass_hz", 6, "measured.palisaden.highpass_hz = 6 Hz must be below fmax = 5 Hz"),
+])
+def test_measured_cutoffs_at_or_above_nyquist_refused(key, value, fragment, monkeypatch):
+    assert fragment in refusal(_set(base_config(), f"measured.palisaden.{key}", value), monkeypatch)
+
+
+@pytest.mark.parametrize("name", ["x" * 65, "a/b", "../up", "a b", "_x"])
+def test_bad_run_names_refused(name, monkeypatch):
+    assert "run" in refusal({**base_config(), "run": name}, monkeypatch)
+
+
+def test_a_64_character_run_name_is_accepted(monkeypatch):
+    monkeypatch.chdir(ROOT)
+    mc.check_workflow_config({**base_config(), "run": "a" * 64}, [], SCHEMA)
+
+
+# --- 4. bounded reads and plans -----------------------------------------------------------
+def _alias_bomb(kind):
+    if kind == "list":
+        lines = ["a0: &a0 [x, y]"] + [f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 9) + "]" for i in range(1, 10)]
+    else:
+        lines = ["a0: &a0 {x: 1, y: 2}"] + [
+            f"a{i}: &a{i} {{" + ", ".join(f"k{j}: *a{i - 1}" for j in range(9)) + "}" for i in range(1, 10)]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("kind", ["list", "mapping"])
+def test_alias_bomb_refused_quickly(kind, tmp_path):
+    path = tmp_path / "bomb.yaml"
+    path.write_text(_alias_bomb(kind))  # 81 aliases, 9**9 nodes once expanded
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match="aliases are expanded"):
+        mc.check_config_text(path)
+    assert time.perf_counter() - start < 2
+
+
+def test_many_aliases_and_large_files_refused(tmp_path):
+    path = tmp_path / "aliases.yaml"
+    path.write_text("a: &a 1\nb: [" + ", ".join(["*a"] * 101) + "]\n")
+    with pytest.raises(ValueError, match="101 YAML aliases"):
+        mc.check_config_text(path)
+    path.write_text("# " + "x" * mc.MAX_CONFIG_BYTES + "\n")
+    with pytest.raises(ValueError, match="more than the 1000000 a config may have"):
+        mc.check_config_text(path)
+
+
+def test_alias_bomb_refused_before_snakemake_loads_it(project):
+    """Snakemake itself expands a mapping bomb while loading --configfile
+    (it never returns): regenerate.sh's pre-check refuses it first."""
+    (project / "bomb.yaml").write_text(_alias_bomb("mapping"))
+    proc = subprocess.run([sys.executable, "workflow/check_configfiles.py", "--configfile", "bomb.yaml"],
+                          cwd=project, capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and "aliases are expanded" in proc.stderr
+
+
+def test_a_plan_beyond_the_job_limit_refused_with_its_size(monkeypatch):
+    config = _set(base_config(), "seeds", {"first": 0, "count": 10 ** 9, "chunk": 50})
+    start = time.perf_counter()
+    message = refusal(config, monkeypatch)
+    assert "identification jobs" in message and "more than 10000" in message, message
+    assert time.perf_counter() - start < 5
+
+
+# --- 6. measured refs: the record's channel numbers, among the channels used -------------
+def test_refs_are_record_channel_numbers(monkeypatch):
+    config = base_config()
+    config["measured"]["palisaden"].update(channels=[3, 4, 5], refs=[4, 5])
+    monkeypatch.chdir(ROOT)
+    mc.check_workflow_config(copy.deepcopy(config), [], SCHEMA)  # refs 4, 5 are channels used
+    config["measured"]["palisaden"]["refs"] = [0]
+    assert "measured.palisaden.refs[0] = 0: not among the channels used [3, 4, 5]" in refusal(config, monkeypatch)
+
+
+# --- 7. table titles as written: ζ and η ----------------------------------------------------
+def test_title_printing_other_zeta_and_eta_refused(monkeypatch):
+    config = _set(base_config(), "tables.1.title", "Identified frequencies with ζ = .05, η = 3 %")
+    message = refusal(config, monkeypatch)
+    assert "tables.1.title says 'ζ = .05'" in message and "tables.1.title says 'η = 3 %'" in message, message
+
+
+def test_default_titles_agree_with_their_cases(monkeypatch):
+    config = base_config()
+    mc.normalise_numbers(config)
+    assert mc.case_problems(config) == []
+
+
+# --- 8. interpretation names ---------------------------------------------------------------
+def test_interpretation_name_with_underscore_refused(monkeypatch):
+    config = base_config()
+    config["interpretations"]["lower_x"] = config["interpretations"]["lower"]
+    message = refusal(config, monkeypatch)
+    assert "'lower_x' does not match" in message and "no '_'" in message, message
+
+
+# --- 10. a parameter study never overwrites the committed results/tables ---------------------
+@pytest.fixture()
+def git_tree(tmp_path):
+    """A git work tree whose results/tables is committed."""
+    (tmp_path / "results/tables").mkdir(parents=True)
+    (tmp_path / "results/tables/table_01.csv").write_text("mode\n1\n")
+    for args in (["init", "-q"], ["add", "results"], ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "t"]):
+        subprocess.run(["git", *args], cwd=tmp_path, check=True, capture_output=True)
+    return tmp_path
+
+
+def test_changed_config_without_run_name_refused_where_tables_are_committed(git_tree, monkeypatch):
+    default = ROOT / "config/config.yaml"
+    changed = _set(base_config(), "seeds.count", 7)
+    mc.normalise_numbers(changed)
+    monkeypatch.chdir(git_tree)
+    with pytest.raises(ValueError, match=r"seeds.count.*--config run=<name>"):
+        mc.check_run_name(changed, default)
+    mc.check_run_name({**changed, "run": "seven_seeds"}, default)  # named: results/runs/seven_seeds/
+    unchanged = base_config()
+    mc.normalise_numbers(unchanged)
+    mc.check_run_name(unchanged, default)  # the default config regenerates the committed tables
+
+
+def test_changed_config_without_run_name_refused_by_snakemake(tmp_path):
+    work = copy_project(tmp_path)
+    (work / "results/tables").mkdir(parents=True)
+    (work / "results/tables/table_01.csv").write_text("mode\n1\n")
+    for args in (["init", "-q"], ["add", "results"], ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "t"]):
+        subprocess.run(["git", *args], cwd=work, check=True, capture_output=True)
+    proc = run_snakemake(work, "-n", "--configfile", SMALL_CONFIG_FILE, check=False)
+    assert proc.returncode != 0
+    assert "--config run=<name>" in proc.stdout + proc.stderr
