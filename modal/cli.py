@@ -108,8 +108,8 @@ def parser() -> argparse.ArgumentParser:
     cmd.add_argument("path", type=Path, help="record: .npy .npz .csv .txt .tsv .lvm .uff .unv")
     cmd.add_argument("--fs", type=_positive(float), help="sampling rate (Hz); overrides a text file's time column")
     cmd.add_argument("--channels", type=_indices, help="channels to use, 0-based, e.g. 0,1,2 (default all)")
-    cmd.add_argument("--refs", type=_indices, help="reference channels among --channels' numbering of the file, "
-                     "for the correlations (default all)")
+    cmd.add_argument("--refs", type=_indices, help="reference channels for the correlations: the record's "
+                     "channel numbers, among --channels (default all)")
     kind = cmd.add_mutually_exclusive_group(required=True)
     kind.add_argument("--ambient", action="store_true", help="output-only (operational) record")
     kind.add_argument("--free-decay", action="store_true", help="impact test: the decay after the impact")
