@@ -180,7 +180,7 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
         figures=[dict(number=n, caption=f["caption"], src=png_data_uri(f["png"]) if f["png"] else None)
                  for n, f in sorted(figures.items())],
         extras=[dict(e, src=png_data_uri(e["png"]),
-                     table=markup(e["frame"].to_html(index=False, border=0, classes="summary", na_rep=""))
+                     table=markup(e["frame"].to_html(index=False, border=0, classes="modes", na_rep=""))
                      if e.get("frame") is not None else None) for e in extras],
         provenance=provenance,
     )

@@ -14,6 +14,9 @@ from ..structures import SimplySupportedBeam
 from .tables import NOISE_FREE_SEED, assign_modes, interpretation_name
 
 MARKERS = {"tcm": "o", "era": "x", "cera": "s"}
+#: Entries flagged ``unstable`` (|z| > 1): a hollow triangle for every method, so
+#: they differ from ordinary entries even where the method's marker has no face (×).
+UNSTABLE_MARKER = "^"
 STYLES = {0: "-", 1: "--", 2: ":"}
 #: Markers of the second interpretation (hollow where the first is filled).
 SECOND = {"tcm": "D", "era": "+", "cera": "^"}
@@ -132,7 +135,8 @@ def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) 
     (:func:`modal.thesis.tables.assign_modes`), so a real pole or a lost
     mode does not shift the others. Noise levels at which the first seed
     did not identify the mode are marked with ``*`` at the foot of the
-    panel; entries flagged ``unstable`` are drawn hollow.
+    panel; entries flagged ``unstable`` are drawn as hollow triangles
+    (:data:`UNSTABLE_MARKER`).
     """
     fig = Figure(figsize=(6.5, 2.5 * len(identified) + 1.0), layout="constrained")
     axes = np.atleast_1d(fig.subplots(len(identified), 1, sharex=True))
@@ -153,8 +157,9 @@ def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) 
             ax.plot(1 / first.loc[~unstable, "noise"], first.loc[~unstable, "omega"], MARKERS[method], ls="none",
                     color=line.get_color(), label=f"{method.upper()} first seed (seed {seed})")
             if unstable.any():
-                ax.plot(1 / first.loc[unstable, "noise"], first.loc[unstable, "omega"], MARKERS[method], ls="none",
-                        mfc="none", color=line.get_color(), label=f"{method.upper()} first seed, flagged unstable")
+                ax.plot(1 / first.loc[unstable, "noise"], first.loc[unstable, "omega"], UNSTABLE_MARKER, ls="none",
+                        mfc="none", ms=8, color=line.get_color(),
+                        label=f"{method.upper()} first seed, flagged unstable (|z| > 1)")
             lost = sorted(set(runs["noise"]) - set(first["noise"]))
             if lost:
                 ax.plot(1 / np.asarray(lost), np.full(len(lost), 0.04), "*", ms=9, ls="none", transform=foot,
