@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 import modal.thesis.config as mc
-from workflow_run import ROOT, SMALL_CONFIG_FILE, copy_project, run_snakemake
+from workflow_run import ROOT, SMALL_CONFIG_FILE, base_config, copy_project, run_snakemake, set_key
 
 SCHEMA = ROOT / "workflow/schemas/config.schema.yaml"
 YTE = """__use_yte__: true
@@ -22,19 +22,6 @@ seeds:
   first: 0
   count: ?open("evaluated.txt", "w").write("x") or 3
 """
-
-
-def base_config():
-    return yaml.safe_load((ROOT / "config/config.yaml").read_text())
-
-
-def _set(config, path, value):
-    node = config
-    keys = path.split(".")
-    for key in keys[:-1]:
-        node = node[key] if key in node else node[int(key)]
-    node[int(keys[-1]) if keys[-1].isdigit() and keys[-1] not in node else keys[-1]] = value
-    return config
 
 
 def refusal(config, monkeypatch, configfiles=()):
@@ -136,7 +123,7 @@ NONFINITE = [
 
 @pytest.mark.parametrize("path, value", NONFINITE, ids=[p for p, _ in NONFINITE])
 def test_nonfinite_numbers_refused_naming_the_key(path, value, monkeypatch):
-    message = refusal(_set(base_config(), path, value), monkeypatch)
+    message = refusal(set_key(base_config(), path, value), monkeypatch)
     assert "not a finite number" in message and path.split(".")[-1] in message, message
 
 
@@ -157,7 +144,7 @@ def test_nonfinite_from_yaml_text(tmp_path, monkeypatch):
     ("highpass_hz", 6, "measured.palisaden.highpass_hz = 6 Hz must be below fmax = 5 Hz"),
 ])
 def test_measured_cutoffs_at_or_above_nyquist_refused(key, value, fragment, monkeypatch):
-    assert fragment in refusal(_set(base_config(), f"measured.palisaden.{key}", value), monkeypatch)
+    assert fragment in refusal(set_key(base_config(), f"measured.palisaden.{key}", value), monkeypatch)
 
 
 @pytest.mark.parametrize("name", ["x" * 65, "a/b", "../up", "a b", "_x"])
@@ -210,7 +197,7 @@ def test_alias_bomb_refused_before_snakemake_loads_it(project):
 
 
 def test_a_plan_beyond_the_job_limit_refused_with_its_size(monkeypatch):
-    config = _set(base_config(), "seeds", {"first": 0, "count": 10 ** 9, "chunk": 50})
+    config = set_key(base_config(), "seeds", {"first": 0, "count": 10 ** 9, "chunk": 50})
     start = time.perf_counter()
     message = refusal(config, monkeypatch)
     assert "identification jobs" in message and "more than 10000" in message, message
@@ -229,7 +216,7 @@ def test_refs_are_record_channel_numbers(monkeypatch):
 
 # --- 7. table titles as written: ζ and η ----------------------------------------------------
 def test_title_printing_other_zeta_and_eta_refused(monkeypatch):
-    config = _set(base_config(), "tables.1.title", "Identified frequencies with ζ = .05, η = 3 %")
+    config = set_key(base_config(), "tables.1.title", "Identified frequencies with ζ = .05, η = 3 %")
     message = refusal(config, monkeypatch)
     assert "tables.1.title says 'ζ = .05'" in message and "tables.1.title says 'η = 3 %'" in message, message
 
@@ -261,7 +248,7 @@ def git_tree(tmp_path):
 
 def test_changed_config_without_run_name_refused_where_tables_are_committed(git_tree, monkeypatch):
     default = ROOT / "config/config.yaml"
-    changed = _set(base_config(), "seeds.count", 7)
+    changed = set_key(base_config(), "seeds.count", 7)
     mc.normalise_numbers(changed)
     monkeypatch.chdir(git_tree)
     with pytest.raises(ValueError, match=r"seeds.count.*--config run=<name>"):

@@ -19,29 +19,9 @@ import yaml
 
 import modal.thesis.config as mc
 from modal.thesis.intermediates import read_grid_identified, read_identified, read_interpretations, read_selection
-from workflow_run import ROOT, SMALL_CONFIG_FILE, copy_project, run_snakemake
+from workflow_run import DELETE, ROOT, SMALL_CONFIG_FILE, base_config, copy_project, run_snakemake, set_key
 
 SCHEMA = ROOT / "workflow/schemas/config.schema.yaml"
-DELETE = object()
-
-
-def base_config():
-    return yaml.safe_load((ROOT / "config/config.yaml").read_text())
-
-
-def _set(config, path, value):
-    node = config
-    keys = path.split(".")
-    for key in keys[:-1]:
-        node = node[key] if key in node else node[int(key)]
-    last = keys[-1]
-    if last not in node and last.isdigit() and str(int(last)) == last:
-        last = int(last)  # "01" stays a string: an override beside table 1
-    if value is DELETE:
-        del node[last]
-    else:
-        node[last] = value
-    return config
 
 
 def refused(config, *fragments):
@@ -116,7 +96,7 @@ BAD = [
 
 @pytest.mark.parametrize("path, value, fragments", BAD, ids=[f"{p}={v!r}"[:60] for p, v, _ in BAD])
 def test_bad_config_is_refused_naming_the_key(path, value, fragments):
-    refused(_set(copy.deepcopy(base_config()), path, value), *fragments)
+    refused(set_key(copy.deepcopy(base_config()), path, value), *fragments)
 
 
 def test_schema_is_closed_everywhere():

@@ -6,6 +6,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import yaml
+
 ROOT = Path(__file__).resolve().parents[2]
 #: The small test config (YAML, layered over config/config.yaml).
 SMALL_CONFIG_FILE = "config/test/config.small.yaml"
@@ -31,3 +33,29 @@ def run_snakemake(workdir, *args, check=True, timeout=900):
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
     return proc
+
+
+#: :func:`set_key`'s value that deletes the key.
+DELETE = object()
+
+
+def base_config():
+    """config/config.yaml as a dict."""
+    return yaml.safe_load((ROOT / "config/config.yaml").read_text())
+
+
+def set_key(config, path, value):
+    """Set the dotted ``path`` (``"tables.3.title"``) of ``config`` to ``value``,
+    or delete it when ``value`` is :data:`DELETE`; returns ``config``."""
+    node = config
+    keys = path.split(".")
+    for key in keys[:-1]:
+        node = node[key] if key in node else node[int(key)]
+    last = keys[-1]
+    if last not in node and last.isdigit() and str(int(last)) == last:
+        last = int(last)  # "01" stays a string: an override beside table 1
+    if value is DELETE:
+        del node[last]
+    else:
+        node[last] = value
+    return config
