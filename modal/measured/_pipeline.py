@@ -178,6 +178,7 @@ def identify_record(
     log: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
     quantities=None,
+    channel_labels=None,
 ) -> tuple[Stabilisation, float]:
     """Modes of a measured record, as ``modal identify`` finds them.
 
@@ -234,6 +235,9 @@ def identify_record(
         What each channel measures (``"displacement"``, ``"velocity"``,
         ``"acceleration"``), so channels of mixed quantities give one shape
         (:func:`stabilisation`).
+    channel_labels : sequence, optional
+        How messages name the channels (e.g. the record's channel numbers);
+        default their positions 0, 1, ...
 
     Returns
     -------
@@ -248,7 +252,7 @@ def identify_record(
     if excitation not in EXCITATIONS:
         raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
     y = detrend(acc)  # a copy of the record, the only one of its size
-    _refuse_no_vibration(np.asarray(acc, dtype=float), y, range(y.shape[1]))
+    _refuse_no_vibration(np.asarray(acc, dtype=float), y, channel_labels or range(y.shape[1]))
     y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     dt = positive_float("dt", dt)
     max_order = positive_int("max_order", max_order, minimum=2)
@@ -371,9 +375,6 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     OSError
         Writing failed part-way (e.g. no space left); ``out`` is untouched.
     """
-    from pathlib import Path
-
-    from ..signals import detrend
     from ._output import check_output, staged_folder
 
     n_channels = record.acc.shape[1]
@@ -389,12 +390,11 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
         raise ValueError(f"max_order must be even, got {max_order}")
     out = check_output(out, inputs=[record.path] if getattr(record, "path", None) else [])
     acc = record.acc[:, channels]
-    _refuse_no_vibration(acc, detrend(acc), channels)  # named in the record's channel numbers
     columns = shape_columns(record, channels)
     with staged_folder(out) as staging:
         result, dt = identify_record(acc, record.dt, excitation, max_order=max_order, fmax=fmax,
                                      rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress,
-                                     quantities=quantities)
+                                     quantities=quantities, channel_labels=channels)
         modes = result.modes.copy()
         for c, column in enumerate(columns):
             modes[column] = result.shapes[c] if len(modes) else []
