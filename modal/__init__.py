@@ -10,6 +10,8 @@ re-exported here from the subpackages, one per concern:
 - :mod:`modal.signals`: preprocessing and NExT correlation functions;
 - :mod:`modal.records`: reading and writing measured records;
 - :mod:`modal.measured`: the measured-record pipeline (``modal identify``);
+- :mod:`modal.setups`: roving tests: channel tables, geometry, setups merged,
+  shapes drawn on the structure;
 - :mod:`modal.structures`: beam, grid FE model, virtual shaking test;
 - :mod:`modal.thesis`: the reproduction layer of the workflow (not the engine).
 
@@ -23,6 +25,9 @@ from .identification import (FLAGS, ModalResult, ModalWarning, Stabilisation, St
 from .measured import (OutputError, available_memory, identify_record, memory_needed,
                        write_identification)
 from .records import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
+from .setups import (Geometry, MergedModes, Setup, check_setups, direction_from_angles, draw_modes, identify_setup,
+                     merge_setups, mode_shape_animation, mode_shape_figure, node_motion, node_shapes,
+                     read_channel_table, read_geometry, read_pyoma_setup, read_setup, write_setups)
 from .signals import (acceleration_offset, amplitude_spectrum, correlations, decay_start, decimate, detrend, integrate_acceleration,
                       lowpass_fft, split_record, zero_phase_filter)
 from .structures import (Grid, Record, ShakeTest, SimplySupportedBeam, add_noise, beam_impulse_response,
@@ -30,12 +35,15 @@ from .structures import (Grid, Record, ShakeTest, SimplySupportedBeam, add_noise
                          with_noise)
 
 __all__ = [
-    "FLAGS", "Grid", "MeasuredRecord", "ModalResult", "ModalWarning", "OutputError", "Record", "ShakeTest",
-    "SimplySupportedBeam", "Stabilisation", "StabilityCriteria", "acceleration_offset", "add_noise", "align_shapes",
-    "amplitude_spectrum", "available_memory", "beam_impulse_response", "cera", "correlations", "damping_ratios",
-    "decay_start", "decimate", "decompose", "detrend", "era", "hankel", "identify_record", "impulse_response",
-    "integrate_acceleration", "load_record", "lowpass_fft", "mac", "memory_needed", "modal_amplitude_coherence",
-    "modal_phase_collinearity", "pick_peaks", "read_record", "save_record_npz", "select_sharpest", "shake_test",
-    "sharpness", "split_record", "stabilisation", "stabilisation_figure", "tcm", "with_noise", "write_identification",
-    "write_uff58", "zero_phase_filter",
+    "FLAGS", "Geometry", "Grid", "MeasuredRecord", "MergedModes", "ModalResult", "ModalWarning", "OutputError",
+    "Record", "Setup", "ShakeTest", "SimplySupportedBeam", "Stabilisation", "StabilityCriteria",
+    "acceleration_offset", "add_noise", "align_shapes", "amplitude_spectrum", "available_memory",
+    "beam_impulse_response", "cera", "check_setups", "correlations", "damping_ratios", "decay_start", "decimate",
+    "decompose", "detrend", "direction_from_angles", "draw_modes", "era", "hankel", "identify_record",
+    "identify_setup", "impulse_response", "integrate_acceleration", "load_record", "lowpass_fft", "mac",
+    "memory_needed", "merge_setups", "modal_amplitude_coherence", "modal_phase_collinearity", "mode_shape_animation",
+    "mode_shape_figure", "node_motion", "node_shapes", "pick_peaks", "read_channel_table", "read_geometry",
+    "read_pyoma_setup", "read_record", "read_setup", "save_record_npz", "select_sharpest", "shake_test", "sharpness",
+    "split_record", "stabilisation", "stabilisation_figure", "tcm", "with_noise", "write_identification",
+    "write_setups", "write_uff58", "zero_phase_filter",
 ]

@@ -395,24 +395,37 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
         result, dt = identify_record(acc, record.dt, excitation, max_order=max_order, fmax=fmax,
                                      rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress,
                                      quantities=quantities, channel_labels=channels)
-        modes = result.modes.copy()
-        for c, column in enumerate(columns):
-            modes[column] = result.shapes[c] if len(modes) else []
-        modes.to_csv(staging / "modes.csv", index=False, float_format="%.6g")
-        shapes = result.complex_shapes
-        pd.DataFrame({
-            "mode": np.repeat(modes["mode"].to_numpy(dtype=int), len(columns)),
-            "channel": np.tile([c.removeprefix("phi_") for c in columns], len(modes)),
-            "re": shapes.T.real.ravel(), "im": shapes.T.imag.ravel(), "magnitude": np.abs(shapes.T).ravel(),
-            "phase_deg": np.degrees(np.angle(shapes.T)).ravel(),
-        }).to_csv(staging / "complex_shapes.csv", index=False, float_format="%.6g")
-        result.candidates.to_csv(staging / "candidates.csv", index=False, float_format="%.6g")
-        result.poles.to_csv(staging / "poles.csv", index=False, float_format="%.6g")
-        from ..identification import stabilisation_figure
-
-        figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
-        figure.savefig(staging / "stabilisation.png", dpi=120)
+        write_results(staging, result, dt, columns, fmax=fmax, title=title)
     return result, dt
+
+
+def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=None) -> None:
+    """Write a record's identification into ``folder`` (which exists):
+    ``modes.csv`` with a shape column per channel (``columns``, e.g. from
+    :func:`shape_columns`), ``complex_shapes.csv``, ``candidates.csv``,
+    ``poles.csv`` and ``stabilisation.png`` (drawn up to ``fmax``, default
+    the Nyquist frequency of ``dt``), as :func:`write_identification`
+    describes them."""
+    from pathlib import Path
+
+    from ..identification import stabilisation_figure
+
+    folder = Path(folder)
+    modes = result.modes.copy()
+    for c, column in enumerate(columns):
+        modes[column] = result.shapes[c] if len(modes) else []
+    modes.to_csv(folder / "modes.csv", index=False, float_format="%.6g")
+    shapes = result.complex_shapes
+    pd.DataFrame({
+        "mode": np.repeat(modes["mode"].to_numpy(dtype=int), len(columns)),
+        "channel": np.tile([c.removeprefix("phi_") for c in columns], len(modes)),
+        "re": shapes.T.real.ravel(), "im": shapes.T.imag.ravel(), "magnitude": np.abs(shapes.T).ravel(),
+        "phase_deg": np.degrees(np.angle(shapes.T)).ravel(),
+    }).to_csv(folder / "complex_shapes.csv", index=False, float_format="%.6g")
+    result.candidates.to_csv(folder / "candidates.csv", index=False, float_format="%.6g")
+    result.poles.to_csv(folder / "poles.csv", index=False, float_format="%.6g")
+    figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
+    figure.savefig(folder / "stabilisation.png", dpi=120)
 
 
 def shape_columns(record, channels) -> list[str]:

@@ -35,7 +35,8 @@ def test_public_names_are_the_functions_whatever_is_imported():
     code = ("import sys, modal.thesis.study, modal.cli, modal.measured, modal.identification._era; import modal; "
             "print(all(callable(getattr(modal, n)) and not isinstance(getattr(modal, n), type(sys))"
             " for n in ('era', 'tcm', 'cera', 'hankel', 'stabilisation'))); "
-            "subs = [modal.identification, modal.signals, modal.records, modal.measured, modal.structures]; "
+            "subs = [modal.identification, modal.signals, modal.records, modal.measured, modal.structures, "
+            "modal.setups]; "
             "print(sorted(modal.__all__) == sorted(n for s in subs for n in s.__all__ if n != 'EXCITATIONS')); "
             "from modal import *; print(era is sys.modules['modal.identification._era'].era)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout

@@ -1,0 +1,13 @@
+"""Roving-sensor tests: channel tables (what each channel measures, where),
+geometry, several setups merged into one set of modes and shapes in the
+global frame, and the shapes drawn on the structure."""
+
+from ._channels import direction_from_angles, read_channel_table, read_pyoma_setup
+from ._geometry import Geometry, read_geometry
+from ._drawing import mode_shape_animation, mode_shape_figure, node_motion
+from ._merge import MergedModes, Setup, check_setups, identify_setup, merge_setups, node_shapes, read_setup
+from ._results import draw_modes, write_setups
+
+__all__ = ["Geometry", "MergedModes", "Setup", "check_setups", "direction_from_angles", "draw_modes", "identify_setup",
+           "merge_setups", "mode_shape_animation", "mode_shape_figure", "node_motion", "node_shapes",
+           "read_channel_table", "read_geometry", "read_pyoma_setup", "read_setup", "write_setups"]

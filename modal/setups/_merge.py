@@ -1,0 +1,362 @@
+"""Several setups, one result: each setup identified on its own, its modes
+matched across setups by frequency and the reference channels' MAC, and
+its shapes rescaled through the reference channels into one shape per mode
+(PoSER: post-identification separate estimation re-scaling), then resolved
+node by node into the global frame."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from ..identification import Stabilisation, mac, modal_phase_collinearity
+from ..records import read_record
+from ._channels import dof_keys, read_channel_table, read_pyoma_setup, unit_factor
+
+#: Record files a setup folder may hold beside ``channels.csv``.
+RECORD_SUFFIXES = (".npy", ".npz", ".csv", ".txt", ".tsv", ".lvm", ".uff", ".unv")
+
+#: A node's direction is resolved when its measuring directions span it to
+#: this tolerance (squared norm of the axis projected on their span).
+SPAN_TOL = 1e-6
+
+
+@dataclass(frozen=True)
+class Setup:
+    """One setup of a roving test: a record and its channel table.
+
+    Attributes
+    ----------
+    name : str
+    record : MeasuredRecord
+    channels : pandas.DataFrame
+        The channel table of the channels used (:mod:`modal.setups._channels`).
+    """
+
+    name: str
+    record: object
+    channels: pd.DataFrame
+
+    @property
+    def reference_keys(self) -> list[tuple]:
+        keys = dof_keys(self.channels)
+        return [k for k, role in zip(keys, self.channels["role"]) if role == "reference"]
+
+
+def read_setup(path, fs=None, geometry=None) -> Setup:
+    """Read a setup: a pyOMA setup folder (``channel_dofs.txt``,
+    ``setup_info.txt``, one ``.npy``), a folder with ``channels.csv`` and one
+    record file (:func:`modal.setups.read_channel_table`), or a record file
+    whose channels the ``geometry``'s sensors name (pyOMA2).
+
+    ``fs`` (Hz) is the rate of a record that does not carry one; a pyOMA
+    folder's stated rate must agree with it. Every node must be in the
+    ``geometry`` when one is given.
+    """
+    path = Path(path)
+    nodes = None if geometry is None else geometry.nodes.index
+    if path.is_dir() and (path / "channel_dofs.txt").exists():
+        record_path, rate, table = read_pyoma_setup(path)
+        if fs is not None and abs(fs - rate) > 1e-6 * rate:
+            raise ValueError(f"{path}: setup_info.txt states {rate:g} Hz, --fs {fs:g} Hz")
+        record = read_record(record_path, rate)
+        if table["channel"].max() >= record.acc.shape[1]:
+            raise ValueError(f"{path}: channel_dofs.txt names channel {table['channel'].max()}, the record has "
+                             f"{record.acc.shape[1]}")
+        if nodes is not None:
+            unknown = sorted(set(table["node"]) - set(nodes))
+            if unknown:
+                raise ValueError(f"{path}: node(s) {', '.join(unknown)} not in the geometry {geometry.source}")
+    elif path.is_dir():
+        if not (path / "channels.csv").is_file():
+            raise ValueError(f"{path}: a setup folder holds channel_dofs.txt and setup_info.txt (pyOMA) "
+                             "or channels.csv beside one record")
+        files = [p for p in sorted(path.iterdir()) if p.suffix.lower() in RECORD_SUFFIXES
+                 and p.name != "channels.csv" and p.is_file()]
+        if len(files) != 1:
+            raise ValueError(f"{path}: expected one record file beside channels.csv, found "
+                             f"{', '.join(p.name for p in files) or 'none'}")
+        record = read_record(files[0], fs)
+        table = read_channel_table(path / "channels.csv", record.acc.shape[1], nodes)
+    elif path.is_file():
+        record = read_record(path, fs)
+        if geometry is None:
+            raise ValueError(f"{path}: a record alone has no channel table: give a setup folder (channels.csv "
+                             "beside the record, or pyOMA's layout) or a --geometry that names its sensors")
+        table = geometry.channel_table(record.channels["name"])
+    else:
+        raise ValueError(f"{path}: no such setup (a folder or a record file)")
+    return Setup(path.name if path.is_dir() else path.stem, record, table)
+
+
+def check_setups(setups) -> list[tuple]:
+    """The reference DOFs common to ``setups`` (node and direction), or
+    ``ValueError``: setups of one test share their references; several
+    setups need at least one; setup names must differ."""
+    setups = list(setups)
+    if not setups:
+        raise ValueError("setups: none given")
+    names = [s.name for s in setups]
+    if len(set(names)) != len(names):
+        raise ValueError(f"setups: names repeat ({', '.join(names)}); each setup needs a name of its own")
+    keys = setups[0].reference_keys
+    if len(setups) > 1 and not keys:
+        raise ValueError(f"setup {setups[0].name}: no reference channel: several setups are merged through "
+                         "the reference channels (role reference), present in every setup")
+    for s in setups[1:]:
+        missing = [k for k in keys if k not in s.reference_keys]
+        extra = [k for k in s.reference_keys if k not in keys]
+        if missing or extra:
+            def say(ks):
+                return "; ".join(f"node {k[0]} along ({k[1]:g}, {k[2]:g}, {k[3]:g})" for k in ks)
+            raise ValueError(f"setup {s.name}: its reference channels differ from setup {setups[0].name}'s: "
+                             + (f"missing {say(missing)}" if missing else "")
+                             + ("; " if missing and extra else "") + (f"extra {say(extra)}" if extra else ""))
+    return keys
+
+
+def identify_setup(setup: Setup, excitation, **options) -> tuple[Stabilisation, float]:
+    """:func:`modal.identify_record` on a setup's channels, in SI units, with
+    its reference channels as the correlations' references and each
+    channel's quantity (so mixed quantities give one shape)."""
+    from ..measured import identify_record
+
+    t = setup.channels
+    factors = np.array([unit_factor(q, u) for q, u in zip(t["quantity"], t["unit"])])
+    acc = setup.record.acc[:, t["channel"].to_numpy()] * factors
+    roles = t["role"].to_numpy()
+    refs = None if (roles == "reference").all() or not (roles == "reference").any() else \
+        [int(c) for c in np.flatnonzero(roles == "reference")]
+    return identify_record(acc, setup.record.dt, excitation, refs=refs, quantities=list(t["quantity"]),
+                           channel_labels=list(t["channel"]), **options)
+
+
+@dataclass(frozen=True)
+class MergedModes:
+    """Modes of several setups merged into one set.
+
+    Attributes
+    ----------
+    modes : pandas.DataFrame
+        One row per mode: ``mode``, ``freq_hz`` and ``freq_spread_hz``,
+        ``damping`` and ``damping_spread`` (ratio; mean and standard
+        deviation over the setups in which the mode was selected),
+        ``n_setups`` (selected in), ``n_from_diagram`` (setups whose shape came
+        from their diagram, :func:`merge_setups`), ``setups`` (names),
+        ``ref_mac`` (smallest MAC of a setup's reference part with the
+        consensus), ``mpc`` of the merged shape, ``n_nodes`` (nodes with a
+        shape).
+    shapes : pandas.DataFrame
+        Long form, one row per mode and node: ``mode``, ``node``, ``x``,
+        ``y``, ``z`` (real view in the global frame, largest component 1;
+        NaN where no channel measures that direction), ``x_im``, ``y_im``,
+        ``z_im`` (the imaginary parts: a complex mode's phases).
+    matches : pandas.DataFrame
+        One row per mode and setup that holds it: ``mode``, ``setup``,
+        ``setup_mode`` (its number in the setup's ``modes.csv``; 0 when taken
+        from the diagram), ``source`` (``selected`` or ``diagram``),
+        ``freq_hz``, ``damping``, ``ref_mac``, ``ref_share`` (the reference
+        channels' part of the setup's shape: small means a poorly scaled
+        merge), ``scale`` (modulus of the rescaling factor).
+    """
+
+    modes: pd.DataFrame
+    shapes: pd.DataFrame
+    matches: pd.DataFrame
+
+
+def _consensus(refs: np.ndarray) -> np.ndarray:
+    """The direction shared by the columns of ``refs`` (n_refs, k): the first
+    left singular vector (scipy's SVD), invariant to each column's complex
+    scale."""
+    unit = refs / np.linalg.norm(refs, axis=0)
+    return np.linalg.svd(unit, full_matrices=False)[0][:, 0]
+
+
+def _match(items, freq_rtol, mac_min) -> list[list]:
+    """Greedy clusters of ``items`` (setup, mode, freq, refs) in order of
+    frequency: an item joins the nearest cluster in frequency within
+    ``freq_rtol`` that holds no mode of its setup yet and whose consensus
+    reference part it matches with MAC >= ``mac_min``."""
+    clusters = []
+    for item in sorted(items, key=lambda it: it[2]):
+        s, _, f, r = item
+        best, best_gap = None, None
+        for cluster in clusters:
+            freq = np.mean([it[2] for it in cluster])
+            gap = abs(f - freq) / freq
+            if gap > freq_rtol or any(it[0] == s for it in cluster):
+                continue
+            if r.size and mac(r[:, None], _consensus(np.stack([it[3] for it in cluster], axis=1))[:, None])[0, 0] \
+                    < mac_min:
+                continue
+            if best is None or gap < best_gap:
+                best, best_gap = cluster, gap
+        if best is None:
+            clusters.append([item])
+        else:
+            best.append(item)
+    return clusters
+
+
+def _from_diagram(result: Stabilisation, ref_rows, freq, consensus, freq_rtol, mac_min):
+    """The shape of a mode the setup did not select, from its diagram: among
+    its stable physical poles within ``freq_rtol`` of ``freq`` whose
+    reference part matches ``consensus`` (MAC >= ``mac_min``), the medoid
+    (largest summed MAC with the others); None when there is none."""
+    poles = result.poles
+    near = (poles["stable"] & poles["physical"] & (np.abs(poles["freq_hz"] - freq) <= freq_rtol * freq)).to_numpy()
+    rows = np.flatnonzero(near)
+    if rows.size == 0:
+        return None
+    shapes = result.pole_shapes[rows].T
+    if len(ref_rows):
+        keep = mac(shapes[ref_rows], consensus[:, None])[:, 0] >= mac_min
+        rows, shapes = rows[keep], shapes[:, keep]
+        if rows.size == 0:
+            return None
+    medoid = int(np.argmax(mac(shapes, shapes).sum(axis=0)))
+    pole = poles.iloc[rows[medoid]]
+    return shapes[:, medoid], float(pole["freq_hz"]), float(pole["damping"])
+
+
+def node_shapes(channel_rows, values) -> dict:
+    """Each node's complex motion in the global frame from its channels.
+
+    ``channel_rows``: (node, direction) pairs, ``values``: the channels'
+    complex shape values (a channel measures ``e . u``). Per node the
+    least-squares ``u`` (scipy's ``lstsq``) of all its channels; components
+    outside the span of the node's directions are NaN: one direction
+    measured gives only that direction's axis, if it is one.
+    """
+    import scipy.linalg
+
+    by_node = {}
+    for (node, e), v in zip(channel_rows, values):
+        by_node.setdefault(node, ([], []))
+        by_node[node][0].append(e)
+        by_node[node][1].append(v)
+    out = {}
+    for node, (directions, vals) in by_node.items():
+        e = np.array(directions, dtype=float)
+        u, _, rank, sv = scipy.linalg.lstsq(e.astype(complex), np.array(vals, dtype=complex), cond=1e-6)
+        basis = np.linalg.svd(e)[2][:rank]
+        spanned = np.sum(basis**2, axis=0) >= 1 - SPAN_TOL
+        out[node] = np.where(spanned, u, np.nan + 0j)
+    return out
+
+
+def merge_setups(setups, results, freq_rtol=0.01, mac_min=0.8, min_setups=None) -> MergedModes:
+    """Merge the modes of several setups (PoSER).
+
+    1. Modes are matched across setups (:func:`_match`): within
+       ``freq_rtol`` of each other and with reference parts of MAC >=
+       ``mac_min``; at most one mode per setup.
+    2. A matched mode a setup did not select is looked for in that setup's
+       diagram (stable physical poles near it, matching reference part), so
+       the setup's roving nodes still get a shape (``source`` "diagram").
+    3. Each setup's shape ``phi_s`` is rescaled by the least-squares factor
+       ``a_s = r_s^H u / r_s^H r_s`` that brings its reference part ``r_s``
+       onto the consensus ``u`` (first singular vector of the reference
+       parts); reference channels take the mean of the rescaled values.
+    4. Each node's motion is resolved in the global frame from its channels'
+       directions (:func:`node_shapes`); the merged shape is rotated so its
+       largest component is real and positive, and scaled to 1.
+
+    Parameters
+    ----------
+    setups : sequence of Setup
+    results : sequence of Stabilisation
+        One per setup, as :func:`identify_setup` returns them.
+    freq_rtol : float
+        Relative frequency tolerance of a match.
+    mac_min : float
+        Smallest MAC of reference parts for a match.
+    min_setups : int, optional
+        A mode must be selected in at least this many setups; default
+        half of them (rounded up): a mode seen in fewer is more likely a
+        setup's spurious pole than the structure's.
+
+    Returns
+    -------
+    MergedModes
+    """
+    setups, results = list(setups), list(results)
+    if len(setups) != len(results):
+        raise ValueError(f"results: {len(results)} for {len(setups)} setups")
+    keys = check_setups(setups)
+    min_setups = -(-len(setups) // 2) if min_setups is None else int(min_setups)
+    ref_rows = [[dof_keys(s.channels).index(k) for k in keys] for s in setups]
+    if not keys:  # one setup without references: every mode stands alone
+        items = [(0, k, f, np.empty(0)) for k, f in enumerate(results[0].modes["freq_hz"])]
+    else:
+        items = [(i, k, f, res.complex_shapes[ref_rows[i], k])
+                 for i, res in enumerate(results) for k, f in enumerate(res.modes["freq_hz"])]
+    clusters = sorted((c for c in _match(items, freq_rtol, mac_min) if len(c) >= min_setups),
+                      key=lambda c: np.mean([it[2] for it in c]))
+    modes, shape_rows, matches = [], [], []
+    for number, cluster in enumerate(clusters, start=1):
+        members = {}
+        for s, k, f, r in cluster:
+            m = results[s].modes.iloc[k]
+            members[s] = (results[s].complex_shapes[:, k], float(f), float(m["damping"]), int(m["mode"]), "selected")
+        consensus = (_consensus(np.stack([results[s].complex_shapes[ref_rows[s], k] for s, k, _, _ in cluster],
+                                         axis=1)) if keys else np.empty(0))
+        freq = float(np.mean([it[2] for it in cluster]))
+        for s, res in enumerate(results):
+            if s not in members and keys:
+                found = _from_diagram(res, ref_rows[s], freq, consensus, freq_rtol, mac_min)
+                if found is not None:
+                    members[s] = (*found, 0, "diagram")
+        rows, values, ref_values = [], [], []
+        for s in sorted(members):
+            phi, f, zeta, setup_mode, source = members[s]
+            r = phi[ref_rows[s]]
+            scale = (np.vdot(r, consensus) / np.vdot(r, r)) if keys else 1.0
+            table = setups[s].channels
+            directions = table[["x", "y", "z"]].to_numpy(dtype=float)
+            for c, (node, role) in enumerate(zip(table["node"], table["role"])):
+                if role != "reference" or not keys:
+                    rows.append((node, tuple(directions[c])))
+                    values.append(scale * phi[c])
+            ref_values.append(scale * r)
+            matches.append({"mode": number, "setup": setups[s].name, "setup_mode": setup_mode, "source": source,
+                            "freq_hz": f, "damping": zeta,
+                            "ref_mac": float(mac(r[:, None], consensus[:, None])[0, 0]) if keys else np.nan,
+                            "ref_share": float(np.linalg.norm(r) / np.linalg.norm(phi)) if keys else np.nan,
+                            "scale": float(abs(scale))})
+        if keys:
+            mean_refs = np.mean(ref_values, axis=0)
+            for j, key in enumerate(keys):
+                rows.append((key[0], key[1:]))
+                values.append(mean_refs[j])
+        per_node = node_shapes(rows, values)
+        stacked = np.concatenate([per_node[n] for n in per_node])
+        known = stacked[~np.isnan(stacked)]
+        pivot = known[np.argmax(np.abs(known))] if known.size else 1.0
+        pivot = pivot if abs(pivot) > 0 else 1.0
+        for node, u in per_node.items():
+            u = u / pivot
+            shape_rows.append({"mode": number, "node": node, "x": u[0].real, "y": u[1].real, "z": u[2].real,
+                               "x_im": u[0].imag, "y_im": u[1].imag, "z_im": u[2].imag})
+        selected = [members[s] for s in members if members[s][4] == "selected"]
+        freqs, dampings = np.array([m[1] for m in selected]), np.array([m[2] for m in selected])
+        ref_macs = [m["ref_mac"] for m in matches if m["mode"] == number]
+        modes.append({
+            "mode": number, "freq_hz": freqs.mean(), "freq_spread_hz": freqs.std(ddof=1) if len(freqs) > 1 else np.nan,
+            "damping": dampings.mean(), "damping_spread": dampings.std(ddof=1) if len(freqs) > 1 else np.nan,
+            "n_setups": len(selected), "n_from_diagram": len(members) - len(selected),
+            "setups": " ".join(setups[s].name for s in sorted(members)),
+            "ref_mac": float(np.min(ref_macs)) if keys else np.nan,
+            "mpc": float(modal_phase_collinearity(known[:, None] / pivot)[0]) if known.size else np.nan,
+            "n_nodes": len(per_node),
+        })
+    mode_columns = ["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
+                    "setups", "ref_mac", "mpc", "n_nodes"]
+    shape_columns = ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im"]
+    match_columns = ["mode", "setup", "setup_mode", "source", "freq_hz", "damping", "ref_mac", "ref_share", "scale"]
+    return MergedModes(pd.DataFrame(modes, columns=mode_columns), pd.DataFrame(shape_rows, columns=shape_columns),
+                       pd.DataFrame(matches, columns=match_columns))

@@ -1,0 +1,103 @@
+"""A roving test's results written to a folder: what ``modal identify`` does
+with several setups (or one record with its channel table)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import pandas as pd
+
+from ._merge import MergedModes, identify_setup, merge_setups
+
+
+def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min=0.8, min_setups=None,
+                 animate=True, log: Callable[[str], None] | None = None, **options):
+    """Identify each setup, merge them (:func:`merge_setups`) and write
+    ``out``:
+
+    - ``modes.csv``: the merged modes (:class:`MergedModes` ``modes``);
+    - ``shapes.csv``: one row per mode and node, ``mode, node, x, y, z``
+      in the global frame (real, largest component 1, NaN where no channel
+      measures that direction) and ``x_im, y_im, z_im``;
+    - ``matches.csv``: which mode of which setup went into each mode, its
+      reference MAC and rescaling;
+    - ``channels.csv``: every setup's channel table;
+    - ``setups/<name>/``: each setup's own results, as ``modal identify``
+      writes a record's (modes, complex shapes, candidates, poles, the
+      stabilisation diagram);
+    - with a ``geometry``: ``mode_<k>.png`` (the shape drawn on the
+      structure) and, with ``animate``, ``mode_<k>.gif`` (one cycle).
+
+    The folder is complete or untouched, as :func:`modal.write_identification`
+    writes one (:func:`modal.measured.check_output`, a staged folder).
+
+    Parameters
+    ----------
+    setups : sequence of Setup
+    out : str or Path
+    excitation : {"ambient", "free_decay"}
+    geometry : Geometry, optional
+    freq_rtol, mac_min, min_setups
+        As :func:`merge_setups`.
+    animate : bool
+    log : callable, optional
+    **options
+        Passed to :func:`modal.identify_record` (``fmax``, ``max_order``,
+        ``rows``, ``highpass_hz``, ``progress``, ...).
+
+    Returns
+    -------
+    merged : MergedModes
+    results : list of Stabilisation
+    """
+    from ..measured import check_output
+    from ..measured._output import staged_folder
+    from ..measured._pipeline import write_results
+
+    log = log or (lambda message: None)
+    setups = list(setups)
+    out = check_output(out, inputs=[s.record.path for s in setups if getattr(s.record, "path", None)])
+    results = []
+    with staged_folder(out) as staging:
+        for setup in setups:
+            log(f"setup {setup.name}: {setup.record.acc.shape[0]} samples, {len(setup.channels)} channels "
+                f"({sum(setup.channels['role'] == 'reference')} references)")
+            try:
+                result, dt = identify_setup(setup, excitation, log=lambda m: log("  " + m), **options)
+            except ValueError as exc:
+                raise ValueError(f"setup {setup.name}: {exc}") from None
+            folder = staging / "setups" / setup.name
+            folder.mkdir(parents=True)
+            names = list(setup.channels["name"])
+            columns = [f"phi_{n}" for n in names] if len(set(names)) == len(names) else \
+                [f"phi_{c}" for c in setup.channels["channel"]]
+            write_results(folder, result, dt, columns, fmax=options.get("fmax"), title=setup.name)
+            log(f"  {len(result.modes)} modes: " + ", ".join(f"{f:.4g}" for f in result.modes["freq_hz"]) + " Hz")
+            results.append(result)
+        merged = merge_setups(setups, results, freq_rtol=freq_rtol, mac_min=mac_min, min_setups=min_setups)
+        merged.modes.to_csv(staging / "modes.csv", index=False, float_format="%.6g")
+        merged.shapes.to_csv(staging / "shapes.csv", index=False, float_format="%.6g")
+        merged.matches.to_csv(staging / "matches.csv", index=False, float_format="%.6g")
+        pd.concat([s.channels.assign(setup=s.name) for s in setups])[["setup", *setups[0].channels.columns]] \
+            .to_csv(staging / "channels.csv", index=False, float_format="%.6g")
+        if geometry is not None:
+            draw_modes(geometry, merged, staging, animate=animate)
+            log(f"drew {len(merged.modes)} modes on the geometry")
+    return merged, results
+
+
+def draw_modes(geometry, merged: MergedModes, folder, animate=True) -> list[Path]:
+    """``mode_<k>.png`` (and ``mode_<k>.gif``) of each merged mode in
+    ``folder``; returns the pictures' paths."""
+    from ._drawing import mode_shape_animation, mode_shape_figure
+
+    folder, paths = Path(folder), []
+    for mode in merged.modes.itertuples():
+        title = f"mode {mode.mode}: {mode.freq_hz:.4g} Hz, damping {100 * mode.damping:.2g} %"
+        figure = mode_shape_figure(geometry, merged.shapes, mode.mode, title=title)
+        paths.append(folder / f"mode_{mode.mode}.png")
+        figure.savefig(paths[-1], dpi=110)
+        if animate:
+            mode_shape_animation(geometry, merged.shapes, mode.mode, folder / f"mode_{mode.mode}.gif", title=title)
+    return paths
