@@ -13,6 +13,19 @@ after the impact for free decay, a stabilisation diagram with automatic mode
 selection) and writes ``DIR/modes.csv``, ``DIR/poles.csv`` and
 ``DIR/stabilisation.png``.
 
+::
+
+    modal identify SETUP [SETUP ...] [--geometry DIR] (--ambient | --free-decay)
+                   [--fmax HZ] ... --out DIR
+
+identifies the setups of a roving test (folders in pyOMA's layout, or with a
+``channels.csv`` beside the record; or one record whose channels the
+geometry names) and merges them through their reference channels
+(:func:`modal.write_setups`): ``DIR/modes.csv``, ``DIR/shapes.csv`` (one row
+per mode and node in the global frame), ``DIR/matches.csv``,
+``DIR/setups/<name>/`` (each setup's own results) and, with a geometry,
+``DIR/mode_<k>.png`` and ``.gif``.
+
 Exit codes (one line on stderr says why; never a traceback):
 
 0
@@ -105,7 +118,10 @@ def parser() -> argparse.ArgumentParser:
         description="Identify the modes of a measured record (ERA on NExT correlations or on a free decay).",
         epilog=EPILOG,
     )
-    cmd.add_argument("path", type=Path, help="record: .npy .npz .csv .txt .tsv .lvm .uff .unv")
+    cmd.add_argument("paths", type=Path, nargs="+", metavar="SETUP",
+                     help="a record (.npy .npz .csv .txt .tsv .lvm .uff .unv), or the setups of a roving test: "
+                          "folders in pyOMA's layout or with a channels.csv beside the record (merged into one "
+                          "set of modes)")
     cmd.add_argument("--fs", type=_positive(float), help="sampling rate (Hz); overrides a text file's time column")
     cmd.add_argument("--channels", type=_indices, help="channels to use, 0-based, e.g. 0,1,2 (default all)")
     cmd.add_argument("--refs", type=_indices, help="reference channels for the correlations: the record's "
@@ -126,6 +142,11 @@ def parser() -> argparse.ArgumentParser:
     cmd.add_argument("--skip-rows", type=int, default=0, help="text files: lines to skip at the top")
     cmd.add_argument("--out", type=Path, required=True,
                      help="output folder (created; its files are replaced only once all are written)")
+    cmd.add_argument("--geometry", type=Path, help="folder of the structure's geometry (nodes.csv; pyOMA's grid.txt; "
+                     "pyOMA2's pts_coord.txt or sens_coord.txt): the shapes drawn on it, mode_<k>.png and .gif")
+    cmd.add_argument("--min-setups", type=_positive(int), help="setups a merged mode must be selected in "
+                     "(default half of them)")
+    cmd.add_argument("--no-animation", action="store_true", help="with --geometry: no mode_<k>.gif")
     cmd.add_argument("--quiet", action="store_true", help="no progress messages")
     return main
 
@@ -134,6 +155,10 @@ def identify(args) -> int:
     """Run ``modal identify`` with parsed arguments; returns the exit code."""
     import modal
     from modal.measured import OutputError, check_output
+
+    if len(args.paths) > 1 or args.paths[0].is_dir() or args.geometry is not None:
+        return identify_setups(args)
+    args.path = args.paths[0]
 
     def log(message):
         if not args.quiet:
@@ -183,6 +208,59 @@ def identify(args) -> int:
               .to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
     return fail(EXIT_NO_MODES, f"no mode selected: {result.no_mode_reason()}")
+
+
+def identify_setups(args) -> int:
+    """``modal identify SETUP [SETUP ...]``: each setup identified, the setups
+    merged through their reference channels (:func:`modal.write_setups`)."""
+    import modal
+    from modal.measured import OutputError
+
+    started = time.perf_counter()
+
+    def log(message):
+        if not args.quiet:
+            print(f"[{time.perf_counter() - started:6.1f} s] {message}", file=sys.stderr, flush=True)
+
+    def fail(code, message):
+        print(f"modal identify: {message}", file=sys.stderr)
+        return code
+
+    given = [f"--{name}" for name in ("channels", "refs", "quantities") if getattr(args, name) is not None]
+    if given:
+        return fail(EXIT_BAD_OPTIONS, f"{', '.join(given)}: with setups or a geometry the channel tables say which "
+                                      "channels are used, which are references and what they measure")
+    try:
+        with _one_line_warnings():
+            geometry = None if args.geometry is None else modal.read_geometry(args.geometry)
+            setups = [modal.read_setup(p, args.fs, geometry) for p in args.paths]
+            modal.check_setups(setups)
+    except (ValueError, OSError) as exc:
+        return fail(EXIT_BAD_FILE, f"cannot read the setups: {exc}")
+    try:
+        with _one_line_warnings():
+            merged, results = modal.write_setups(
+                setups, args.out, "ambient" if args.ambient else "free_decay", geometry=geometry,
+                min_setups=args.min_setups, animate=not args.no_animation, log=log, max_order=args.max_order,
+                fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass)
+    except OutputError as exc:
+        return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
+    except (ValueError, MemoryError) as exc:
+        return fail(EXIT_CANNOT_IDENTIFY, f"{exc or 'out of memory'}")
+    except OSError as exc:
+        return fail(EXIT_CANNOT_WRITE, f"cannot write the results to {args.out} ({exc.strerror or exc}); "
+                                       "it is left as it was")
+    modes = merged.modes
+    print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
+          f"{args.min_setups or -(-len(setups) // 2)} setups); shapes at {merged.shapes['node'].nunique()} nodes "
+          f"in {args.out / 'shapes.csv'}")
+    if len(modes):
+        print("damping and damping_spread: ratio to critical (fraction, not %); spreads over the setups")
+        print(modes[["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
+                     "ref_mac", "mpc", "n_nodes"]].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        return 0
+    found = ", ".join(f"{s.name} {len(r.modes)}" for s, r in zip(setups, results))
+    return fail(EXIT_NO_MODES, f"no mode selected in enough setups (modes per setup: {found})")
 
 
 @contextmanager

@@ -109,7 +109,7 @@ def check_channel_table(table: pd.DataFrame, n_channels: int | None = None, sour
     e = t[["x", "y", "z"]].to_numpy(dtype=float)
     norm = np.linalg.norm(e, axis=1)
     for row in np.flatnonzero(~np.isfinite(norm) | (np.abs(norm - 1) > DIRECTION_RTOL)):
-        raise ValueError(f"{source}: channel {t['channel'][row]}: direction {tuple(e[row])} is not a unit vector "
+        raise ValueError(f"{source}: channel {t['channel'][row]}: direction ({e[row, 0]:g}, {e[row, 1]:g}, {e[row, 2]:g}) is not a unit vector "
                          "(a zero or missing direction measures nothing)")
     t[["x", "y", "z"]] = e / norm[:, None]
     t["quantity"] = [str(q).strip().lower() for q in t["quantity"]]

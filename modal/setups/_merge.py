@@ -350,7 +350,7 @@ def merge_setups(setups, results, freq_rtol=0.01, mac_min=0.8, min_setups=None) 
             "damping": dampings.mean(), "damping_spread": dampings.std(ddof=1) if len(freqs) > 1 else np.nan,
             "n_setups": len(selected), "n_from_diagram": len(members) - len(selected),
             "setups": " ".join(setups[s].name for s in sorted(members)),
-            "ref_mac": float(np.min(ref_macs)) if keys else np.nan,
+            "ref_mac": float(np.min(ref_macs)) if keys and len(setups) > 1 else np.nan,
             "mpc": float(modal_phase_collinearity(known[:, None] / pivot)[0]) if known.size else np.nan,
             "n_nodes": len(per_node),
         })
