@@ -73,7 +73,10 @@ def test_readme_command_runs_as_typed(command, tmp_path):
     out = shlex.split(command)
     if "--out" in out:
         folder = tmp_path / out[out.index("--out") + 1]
-        for name in ["modes.csv", "poles.csv", "stabilisation.png"]:
+        setups = "--geometry" in out  # several setups or a geometry: the merged folder
+        names = ["modes.csv", "shapes.csv", "mode_1.png", "mode_1.gif"] if setups else \
+            ["modes.csv", "poles.csv", "stabilisation.png"]
+        for name in names:
             assert (folder / name).is_file(), name
     assert "modes" in run.stdout
 
