@@ -329,3 +329,17 @@ def test_weimar_frame_fifteen_setups(tmp_path):
     assert (merged.modes["n_setups"] + merged.modes["n_from_diagram"] == 15).all()
     counts = merged.shapes.dropna(subset=["x"]).groupby("mode")["node"].nunique()
     assert (counts == 16).all()
+
+
+def test_two_close_modes_of_one_setup_stay_two():
+    """Matching takes at most one mode per setup into a merged mode: two
+    modes of setup 0 at 10.00 and 10.05 Hz (0.5 % apart, same reference
+    part) stay apart, and setup 1's 10.02 Hz joins the nearer one."""
+    from modal.setups._merge import _match
+
+    r = np.array([1.0, 1.0 + 0j])
+    clusters = _match([(0, 0, 10.0, r), (0, 1, 10.05, r), (1, 0, 10.02, r)], freq_rtol=0.01, mac_min=0.8)
+    assert sorted(sorted((s, k) for s, k, _, _ in c) for c in clusters) == [[(0, 0), (1, 0)], [(0, 1)]]
+    different = np.array([1.0, -1.0 + 0j])  # orthogonal reference part: not the same mode
+    clusters = _match([(0, 0, 10.0, r), (1, 0, 10.01, different)], freq_rtol=0.01, mac_min=0.8)
+    assert len(clusters) == 2
