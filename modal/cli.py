@@ -151,28 +151,55 @@ def parser() -> argparse.ArgumentParser:
     return main
 
 
+def _fail(code: int, message: str) -> int:
+    print(f"modal identify: {message}", file=sys.stderr)
+    return code
+
+
+def _logger(args):
+    """Progress messages on stderr with the time since the command began
+    (none with ``--quiet``)."""
+    started = time.perf_counter()
+
+    def log(message):
+        if not args.quiet:
+            print(f"[{time.perf_counter() - started:6.1f} s] {message}", file=sys.stderr, flush=True)
+    return log
+
+
+def _written(args, call, subject=""):
+    """Run ``call`` (which identifies and writes ``--out``); returns its value
+    and None, or None and the exit code of its failure (message printed)."""
+    from modal.measured import OutputError
+
+    try:
+        with _one_line_warnings():
+            return call(), None
+    except OutputError as exc:
+        return None, _fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
+    except (ValueError, MemoryError) as exc:
+        return None, _fail(EXIT_CANNOT_IDENTIFY, f"{subject}{exc or 'out of memory'}")
+    except OSError as exc:
+        return None, _fail(EXIT_CANNOT_WRITE, f"cannot write the results to {args.out} ({exc.strerror or exc}); "
+                                              "it is left as it was")
+
+
 def identify(args) -> int:
     """Run ``modal identify`` with parsed arguments; returns the exit code."""
     import modal
     from modal.measured import OutputError, check_output
 
-    if len(args.paths) > 1 or args.paths[0].is_dir() or args.geometry is not None:
+    first = args.paths[0]
+    if len(args.paths) > 1 or args.geometry is not None or \
+            any((first / name).is_file() for name in ("channel_dofs.txt", "channels.csv")):
         return identify_setups(args)
     args.path = args.paths[0]
-
-    def log(message):
-        if not args.quiet:
-            print(f"[{time.perf_counter() - started:6.1f} s] {message}", file=sys.stderr, flush=True)
+    log, fail = _logger(args), _fail
 
     def progress(done, total):
         if not args.quiet and (done == total or done % 10 == 0):
             log(f"  order {2 * done}/{2 * total}")
 
-    def fail(code, message):
-        print(f"modal identify: {message}", file=sys.stderr)
-        return code
-
-    started = time.perf_counter()
     try:
         check_output(args.out, inputs=[args.path])
     except OutputError as exc:
@@ -185,20 +212,13 @@ def identify(args) -> int:
         return fail(EXIT_BAD_FILE, f"cannot read the record: {exc}")
     n_samples, n_channels = record.acc.shape
     log(f"read {args.path}: {n_samples} samples x {n_channels} channels at {record.fs:.6g} Hz")
-    try:
-        with _one_line_warnings():
-            result, _ = modal.write_identification(
-                record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels,
-                refs=args.refs, max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass,
-                title=args.path.name, log=log, progress=progress, quantities=args.quantities,
-            )
-    except OutputError as exc:
-        return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
-    except (ValueError, MemoryError) as exc:
-        return fail(EXIT_CANNOT_IDENTIFY, f"{args.path}: {exc or 'out of memory'}")
-    except OSError as exc:
-        return fail(EXIT_CANNOT_WRITE, f"cannot write the results to {args.out} ({exc.strerror or exc}); "
-                                       "it is left as it was")
+    written, code = _written(args, lambda: modal.write_identification(
+        record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels, refs=args.refs,
+        max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass, title=args.path.name,
+        log=log, progress=progress, quantities=args.quantities), subject=f"{args.path}: ")
+    if code is not None:
+        return code
+    result = written[0]
     log(f"wrote {args.out / 'modes.csv'}, poles.csv and stabilisation.png")
     modes = result.modes
     print(f"{args.path.name}: {len(modes)} modes ({args.max_order // 2} orders, {len(result.poles)} poles)")
@@ -214,18 +234,8 @@ def identify_setups(args) -> int:
     """``modal identify SETUP [SETUP ...]``: each setup identified, the setups
     merged through their reference channels (:func:`modal.write_setups`)."""
     import modal
-    from modal.measured import OutputError
 
-    started = time.perf_counter()
-
-    def log(message):
-        if not args.quiet:
-            print(f"[{time.perf_counter() - started:6.1f} s] {message}", file=sys.stderr, flush=True)
-
-    def fail(code, message):
-        print(f"modal identify: {message}", file=sys.stderr)
-        return code
-
+    log, fail = _logger(args), _fail
     given = [f"--{name}" for name in ("channels", "refs", "quantities") if getattr(args, name) is not None]
     if given:
         return fail(EXIT_BAD_OPTIONS, f"{', '.join(given)}: with setups or a geometry the channel tables say which "
@@ -237,19 +247,13 @@ def identify_setups(args) -> int:
             modal.check_setups(setups)
     except (ValueError, OSError) as exc:
         return fail(EXIT_BAD_FILE, f"cannot read the setups: {exc}")
-    try:
-        with _one_line_warnings():
-            merged, results = modal.write_setups(
-                setups, args.out, "ambient" if args.ambient else "free_decay", geometry=geometry,
-                min_setups=args.min_setups, animate=not args.no_animation, log=log, max_order=args.max_order,
-                fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass)
-    except OutputError as exc:
-        return fail(EXIT_BAD_OPTIONS, f"bad --out: {str(exc).removeprefix('out: ')}")
-    except (ValueError, MemoryError) as exc:
-        return fail(EXIT_CANNOT_IDENTIFY, f"{exc or 'out of memory'}")
-    except OSError as exc:
-        return fail(EXIT_CANNOT_WRITE, f"cannot write the results to {args.out} ({exc.strerror or exc}); "
-                                       "it is left as it was")
+    written, code = _written(args, lambda: modal.write_setups(
+        setups, args.out, "ambient" if args.ambient else "free_decay", geometry=geometry,
+        min_setups=args.min_setups, animate=not args.no_animation, log=log, max_order=args.max_order,
+        fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass))
+    if code is not None:
+        return code
+    merged, results = written
     modes = merged.modes
     print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
           f"{args.min_setups or -(-len(setups) // 2)} setups); shapes at {merged.shapes['node'].nunique()} nodes "
