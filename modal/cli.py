@@ -69,6 +69,7 @@ EXIT_BAD_FILE = 3
 EXIT_CANNOT_IDENTIFY = 4
 EXIT_NO_MODES = 5
 EXIT_CANNOT_WRITE = 6
+EXIT_WORKFLOW = 7
 
 EPILOG = ("Exit codes: 0 done, 1 internal error, 2 bad options (also an --out that cannot hold the results: "
           "the input file, a file or device, below a file, read-only), 3 unreadable record (also a directory, "
@@ -148,6 +149,20 @@ def parser() -> argparse.ArgumentParser:
                      "(default half of them)")
     cmd.add_argument("--no-animation", action="store_true", help="with --geometry: no mode_<k>.gif")
     cmd.add_argument("--quiet", action="store_true", help="no progress messages")
+    run = commands.add_parser(
+        "campaign",
+        help="a monitoring campaign: many records identified, their modes tracked over time",
+        description="Identify every record of a campaign (a YAML file naming the records and the options of "
+                    "modal identify), track the modes over time and write a report; a Snakemake workflow that "
+                    "resumes after an interruption and, with --profile, runs on a cluster.",
+        epilog="Exit codes: 0 done, 2 bad options or campaign file, 7 the workflow stopped (its log says why; "
+               "run again to resume).",
+    )
+    run.add_argument("campaign", type=Path, help="the campaign's YAML file (docs: Monitoring campaigns)")
+    run.add_argument("--out", type=Path, required=True, help="output folder (kept between runs: a rerun resumes)")
+    run.add_argument("--cores", type=_positive(int), default=1, help="cores on this machine (default 1)")
+    run.add_argument("--profile", type=Path, help="a Snakemake profile folder, e.g. one for Slurm")
+    run.add_argument("--dry-run", action="store_true", help="plan only: list the jobs that would run")
     return main
 
 
@@ -286,12 +301,52 @@ def _one_line_warnings():
                 print(f"modal identify: warning: {text}", file=sys.stderr)
 
 
+def campaign(args) -> int:
+    """``modal campaign``: check the campaign file, then run its workflow
+    (:data:`modal.campaign.SNAKEFILE`) in ``--out`` with this interpreter's
+    Snakemake; returns the exit code."""
+    import shlex
+    import subprocess
+
+    from modal.campaign import SNAKEFILE, read_campaign
+
+    try:
+        config, index = read_campaign(args.campaign)
+    except (ValueError, OSError) as exc:
+        print(f"modal campaign: {exc}", file=sys.stderr)
+        return EXIT_BAD_OPTIONS
+    except ImportError as exc:
+        print(f"modal campaign: needs the workflow extra (pip install 'modal-identification[workflow]'): {exc}",
+              file=sys.stderr)
+        return EXIT_BAD_OPTIONS
+    if args.out.exists() and not args.out.is_dir():
+        print(f"modal campaign: bad --out: {args.out} is not a folder", file=sys.stderr)
+        return EXIT_BAD_OPTIONS
+    args.out.mkdir(parents=True, exist_ok=True)
+    command = shlex.join(["modal", "campaign", *sys.argv[2:]]) if sys.argv[1:2] == ["campaign"] else "modal campaign"
+    call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(args.out),
+            "--cores", str(args.cores), "--rerun-incomplete", "--keep-going", "--config",
+            f"campaign={args.campaign.resolve()}", f"command={command}"]
+    if args.profile is not None:
+        call += ["--profile", str(args.profile.resolve())]
+    if args.dry_run:
+        call += ["--dry-run", "--quiet", "rules"]
+    print(f"modal campaign: {len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to "
+          f"{config['chunk']}", file=sys.stderr)
+    done = subprocess.run(call)
+    if done.returncode:
+        print(f"modal campaign: the workflow stopped (exit {done.returncode}); its log is in "
+              f"{args.out / '.snakemake' / 'log'}; run the same command again to resume", file=sys.stderr)
+        return EXIT_WORKFLOW
+    if not args.dry_run:
+        print(f"modal campaign: wrote {args.out / 'tracked.csv'} and {args.out / 'report.html'}", file=sys.stderr)
+    return 0
+
+
 def main(argv=None) -> int:
     args = parser().parse_args(argv)
-    if args.command != "identify":
-        return EXIT_BAD_OPTIONS  # unreachable: argparse requires a command
     try:
-        return identify(args)
+        return campaign(args) if args.command == "campaign" else identify(args)
     except KeyboardInterrupt:
         print("modal identify: interrupted", file=sys.stderr)
         return 130

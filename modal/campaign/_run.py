@@ -1,0 +1,40 @@
+"""The steps of the campaign workflow (``modal/campaign/Snakefile``) after
+the chunks: gather, track, report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from ._jobs import gather
+from ._report import campaign_report
+from ._tracking import read_reference_modes, reference_modes, track_modes
+
+
+def track_campaign(modes_files, failed_files, index: pd.DataFrame, tracking: dict, folder) -> None:
+    """Gather the chunks' files and write ``folder/modes.csv`` (every mode of
+    every record), ``failed.csv``, ``references.csv`` (from
+    ``tracking["reference_modes"]`` or :func:`reference_modes`),
+    ``tracked.csv`` and ``untracked.csv`` (:func:`track_modes`)."""
+    folder = Path(folder)
+    modes, failed = gather(modes_files, failed_files)
+    if tracking.get("reference_modes"):
+        references = read_reference_modes(tracking["reference_modes"])
+    else:
+        references = reference_modes(modes, len(index), min_share=tracking["min_share"])
+    tracked, untracked = track_modes(modes, references, tracking["freq_rtol"], tracking["mac_min"])
+    modes.to_csv(folder / "modes.csv", index=False, float_format="%.8g")
+    failed.to_csv(folder / "failed.csv", index=False)
+    references.to_csv(folder / "references.csv", index=False, float_format="%.8g")
+    tracked.to_csv(folder / "tracked.csv", index=False, float_format="%.8g")
+    untracked.to_csv(folder / "untracked.csv", index=False, float_format="%.8g")
+
+
+def report_campaign(folder, n_records: int, campaign_path, command: str) -> None:
+    """``folder/report.html`` from the files :func:`track_campaign` wrote."""
+    folder = Path(folder)
+    read = {name: pd.read_csv(folder / f"{name}.csv") for name in ("tracked", "untracked", "failed", "references")}
+    read["tracked"]["time"] = pd.to_datetime(read["tracked"]["time"])
+    campaign_report(folder / "report.html", read["tracked"], read["untracked"], read["failed"], read["references"],
+                    n_records, Path(campaign_path).read_text(), command)
