@@ -4,7 +4,6 @@ record), failures listed and the campaign going on, resuming, growing with
 the index, tracking and the configuration's refusals."""
 
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
