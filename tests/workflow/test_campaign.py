@@ -48,6 +48,8 @@ def test_tracked_modes_follow_the_temperature(campaign):
     per_mode = tracked.groupby("mode")["record"].nunique()
     assert per_mode[1] == 30 and per_mode[2] == 30 and per_mode.min() >= 15
     assert (tracked["mac"] >= 0.8).all()
+    modes = pd.read_csv(out / "modes.csv")
+    assert modes.groupby("record")["mode"].apply(lambda m: m.is_unique).all()  # each record identified once
     span = truth.groupby("mode")["freq_hz"].agg(lambda f: f.max() / f.min() - 1)
     assert span[1] > 0.003  # the frequencies did move with the temperature
 
@@ -102,12 +104,13 @@ def test_campaign_file_refusals(tmp_path, capsys):
 
 
 def test_glob_with_times_in_the_names(tmp_path):
-    for name in ("site_20250102-0600.npy", "site_20250101-1800.npy"):
+    """Records are ordered by the time in their names, not by name."""
+    for name in ("a_20250102-0600.npy", "b_20250101-1800.npy"):
         np.save(tmp_path / name, np.zeros((10, 2)))
-    (tmp_path / "c.yaml").write_text("records: {glob: 'site_*.npy', time_format: '%Y%m%d-%H%M', "
+    (tmp_path / "c.yaml").write_text("records: {glob: '*_*.npy', time_format: '%Y%m%d-%H%M', "
                                      "time_regex: '_(\\d{8}-\\d{4})'}\nidentify: {excitation: ambient, fs: 10}\n")
     config, index = read_campaign(tmp_path / "c.yaml")
-    assert list(index["record"]) == ["site_20250101-1800.npy", "site_20250102-0600.npy"]
+    assert list(index["record"]) == ["b_20250101-1800.npy", "a_20250102-0600.npy"]
     assert index["time"].iloc[0] == pd.Timestamp("2025-01-01 18:00")
     assert config["tracking"]["freq_rtol"] == 0.05 and config["chunk"] == 50
 
@@ -124,12 +127,13 @@ def test_tracking_is_one_to_one_and_gated():
     a mode outside both gates stays untracked."""
     up, apart = (1.0, 1.0), (1.0, -1.0)
     modes = _modes([("a", 1, 2.00, up), ("a", 2, 5.00, apart), ("b", 1, 2.01, up), ("b", 2, 5.04, apart),
-                    ("c", 1, 1.995, up), ("c", 2, 2.015, apart), ("c", 3, 9.0, up)])
-    references = reference_modes(modes, n_records=3, min_share=0.5)
-    assert list(references["n_records"]) == [3, 2]  # 1.995-2.015 Hz is one band; 9 Hz once: not a reference
-    assert references["freq_hz"].tolist() == pytest.approx([2.005, 5.02])
+                    ("c", 1, 1.995, up), ("c", 2, 2.015, apart), ("c", 3, 9.0, up), ("d", 1, 2.01, apart)])
+    references = reference_modes(modes, n_records=4, min_share=0.5)
+    assert list(references["n_records"]) == [4, 2]  # 1.995-2.015 Hz is one band; 9 Hz once: not a reference
+    assert references["freq_hz"].tolist() == pytest.approx([2.01, 5.02])  # the medians
     assert references[["phi_0", "phi_1"]].to_numpy().tolist() == [list(up), list(apart)]  # the medoids
     tracked, untracked = track_modes(modes, references, freq_rtol=0.05, mac_min=0.8)
     assert sorted(zip(tracked["record"], tracked["mode"])) == [("a", 1), ("a", 2), ("b", 1), ("b", 2), ("c", 1)]
     # c's 2.015 Hz mode lies near mode 1 but has mode 2's shape, 60 % away from mode 2
-    assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 2.015), ("c", 9.0)]
+    # d's only mode lies at mode 1's frequency with mode 2's shape: the MAC gate keeps it apart
+    assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 2.015), ("c", 9.0), ("d", 2.01)]
