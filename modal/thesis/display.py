@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .report import REFERENCE_METHODS, VERDICT_DEFINITIONS, read_notes
+from .report import REFERENCE_METHODS, VERDICT_DEFINITIONS, headline, read_notes
 from .tables import read_table
 
 #: The columns of a tidy table a reader wants first.
@@ -137,13 +137,29 @@ class Results:
             return None
         from IPython.display import HTML
 
-        shown = frame[["table", "title", "interpretation", "n_match", "n_compared", "n_within_noise",
-                       "max_abs_rel_dev", "worst", "verdict", "why"]]
+        markdown(f"**{headline(frame)}**")
+        shown = frame[[c for c in ("table", "title", "interpretation", "n_match", "n_compared", "n_within_noise",
+                                   "max_abs_rel_dev", "worst", "stable", "verdict", "cause", "why") if c in frame]]
         shown = shown.assign(max_abs_rel_dev=100 * shown["max_abs_rel_dev"]).rename(
             columns={"max_abs_rel_dev": "largest |deviation| (%)"})
         _display(HTML(styled(shown, {"largest |deviation| (%)": "{:.3g}"}).to_html()))
         if definitions:
             markdown("\n".join(f"- {d}" for d in VERDICT_DEFINITIONS))
+        return frame
+
+    def claims(self, claims_file) -> pd.DataFrame | None:
+        """Show ``claims.csv`` (rule ``claims``) with its count; return it."""
+        from IPython.display import HTML
+
+        from .claims import claims_headline
+
+        path = Path(claims_file)
+        if not path.exists():
+            markdown(f"**The claims `{path}` have not been produced yet.**")
+            return None
+        frame = pd.read_csv(path)
+        markdown(f"**{claims_headline(frame)}**")
+        _display(HTML(styled(frame).to_html()))
         return frame
 
     def inventory(self, tables, figures) -> pd.DataFrame:

@@ -254,22 +254,107 @@ def _stats(hz, case, run, n, mode, first_seed):
 
 
 
-def _mean_abs_err(identified, case, run, method, n=None):
-    """Mean |f / f_true - 1| of the true modes 1-4, each seed's entries paired
-    with the true modes by :func:`modal.thesis.tables.match_to_reference` (so a real
-    pole or a missed mode shifts nothing); a mode missed in a seed counts as
-    a 100 % error."""
+def grid_mode_errors(identified: pd.DataFrame, case: str, run: str, n=None, modes=(1, 2, 3, 4)) -> pd.DataFrame:
+    """|f / f_true - 1| of each true mode in each virtual test (seed) of one
+    run: each seed's entries paired with the true modes by
+    :func:`modal.thesis.tables.match_to_reference` (so a real pole or a missed
+    mode shifts nothing); a mode missed in a seed counts as a 100 % error.
+
+    Returns
+    -------
+    DataFrame
+        ``seed, mode, freq_hz`` (NaN when missed), ``error``.
+    """
     rows = identified[(identified["case"] == case) & (identified["run"] == run)]
     rows = rows[rows["n"] == (rows["n"].max() if n is None else n)].assign(omega=lambda f: f["freq_hz"])
     matched = match_to_reference(rows)
     true = rows.groupby("mode")["actual"].first()
-    errors = []
-    for _, seed_rows in rows.groupby("seed"):
+    out = []
+    for seed, seed_rows in rows.groupby("seed"):
         m = matched.reindex(seed_rows.index)
-        for mode in range(1, 5):
+        for mode in modes:
             hit = seed_rows[m == mode]
-            errors.append(abs(hit["omega"].iloc[0] / true[mode] - 1) if len(hit) else 1.0)
-    return float(np.mean(errors))
+            f = hit["omega"].iloc[0] if len(hit) else np.nan
+            out.append(dict(seed=seed, mode=mode, freq_hz=f, error=abs(f / true[mode] - 1) if len(hit) else 1.0))
+    return pd.DataFrame(out, columns=["seed", "mode", "freq_hz", "error"])
+
+
+def _mean_abs_err(identified, case, run, method, n=None):
+    """Mean |f / f_true - 1| of the true modes 1-4 over the virtual tests
+    (:func:`grid_mode_errors`: missed = 100 %)."""
+    return float(grid_mode_errors(identified, case, run, n)["error"].mean())
+
+
+def grid_findings(number: int, identified: pd.DataFrame, spec: Mapping, model_hz=None,
+                  estimates_hz=None) -> list[dict]:
+    """The thesis's findings that grid Table ``number`` illustrates
+    (``spec["tables"][number]["finding"]``), checked on the virtual grid
+    against its true frequencies (Sec. 7.2-7.3).
+
+    Returns
+    -------
+    list of dict
+        ``finding`` (the thesis's statement in short), ``holds`` (bool),
+        ``partly`` (bool: holds in some virtual tests, not all),
+        ``numbers`` (the numbers behind it, as text) and ``note`` (the
+        sentence under the table). Empty for a measured record and for a
+        table without a finding.
+    """
+    if (model_hz is None) != (estimates_hz is None):
+        raise ValueError("model_hz and estimates_hz: give both or neither")
+    if spec["source"] != "virtual":
+        return []
+    tspec = spec["tables"][number]
+    finding = tspec.get("finding")
+    out = []
+    if finding == "model" and model_hz is not None:
+        estimates_hz = [float(e) for e in estimates_hz]
+        if len(estimates_hz) != len(model_hz):
+            raise ValueError(f"estimates_hz: expected {len(model_hz)} estimates, one per model frequency, "
+                             f"got {len(estimates_hz)}")
+        dev = np.asarray(model_hz) / np.asarray(estimates_hz) - 1
+        numbers = ", ".join(f"{f:.3f} Hz ({100 * d:+.1f} % from {e})" for f, d, e in zip(model_hz, dev, estimates_hz))
+        holds = bool(np.all(np.abs(dev) <= 0.05))
+        out.append(dict(finding="the stand-in's lowest frequencies are the thesis's estimates within 5 %",
+                        holds=holds, partly=False, numbers=numbers,
+                        note=f"Grid model, four lowest frequencies: {numbers}; all within 5 %: "
+                             f"{'yes' if holds else 'no'}."))
+    if finding in ("filtering", "cutoff"):
+        cut, ref = spec["cases"][tspec["case"]], spec["cases"][tspec["reference_case"]]
+        for method in ("tcm", "era"):
+            run = tspec["runs"][method]
+            before = _mean_abs_err(identified, tspec["reference_case"], run, method)
+            after = _mean_abs_err(identified, tspec["case"], run, method)
+            if finding == "filtering":
+                name = f"filtering at {cut:g} Hz improves the {method.upper()}"
+                holds = after < before
+                numbers = f"mean |error| of true modes 1-4 (missed = 100 %) {100 * before:.1f} % raw -> {100 * after:.1f} % filtered"
+            else:
+                name = f"filtering at {cut:g} Hz instead of {ref:g} Hz does not improve the {method.upper()}"
+                holds = after >= before
+                numbers = f"mean |error| {100 * before:.1f} % -> {100 * after:.1f} %"
+            out.append(dict(finding=name, holds=holds, partly=False, numbers=numbers,
+                            note=f"Finding '{name}': {numbers}: {'reproduced' if holds else 'not reproduced'}."))
+    if finding == "data_sets":
+        m1 = _mean_abs_err(identified, tspec["case"], tspec["runs"]["era m=1"], "era")
+        m3 = _mean_abs_err(identified, tspec["case"], tspec["runs"]["era m=3"], "era")
+        name, numbers, holds = ("multiple data sets help the ERA",
+                                f"mean |error| {100 * m1:.1f} % (m = 1) -> {100 * m3:.1f} % (m = 3)", m3 < m1)
+        out.append(dict(finding=name, holds=holds, partly=False, numbers=numbers,
+                        note=f"Finding '{name}': {numbers}: {'reproduced' if holds else 'not reproduced'}."))
+    if finding == "inclusion":
+        (method, run), = tspec["runs"].items()
+        rows = identified[(identified["case"] == tspec["case"]) & (identified["run"] == run)]
+        ok = []
+        for seed, g in rows.groupby("seed"):
+            by_n = {n: h.sort_values("mode")["freq_hz"].to_numpy() for n, h in g.groupby("n")}
+            ok.append(inclusion_holds(by_n))
+        name = f"the {method.upper()} frequencies obey the inclusion principle as n grows"
+        numbers = f"holds in {sum(ok)} of {len(ok)} virtual tests"
+        out.append(dict(finding=name, holds=all(ok), partly=any(ok) and not all(ok), numbers=numbers,
+                        note=f"Finding '{name}' (Eq. 20): {numbers}: "
+                             f"{'reproduced' if all(ok) else 'reproduced in part' if any(ok) else 'not reproduced'}."))
+    return out
 
 
 def grid_notes(number: int, table: pd.DataFrame, identified: pd.DataFrame, spec: Mapping,
@@ -278,59 +363,29 @@ def grid_notes(number: int, table: pd.DataFrame, identified: pd.DataFrame, spec:
     ``model_hz`` against the thesis's estimates ``estimates_hz`` (its "est."
     column, from the published tables; both or neither), and the thesis's
     qualitative findings, each stated as reproduced or not (errors against the
-    virtual grid's true frequencies)."""
-    notes = []
+    virtual grid's true frequencies, :func:`grid_findings`)."""
+    findings = grid_findings(number, identified, spec, model_hz, estimates_hz)
+    notes = [f["note"] for f in findings if f["note"].startswith("Grid model")]
     virtual = spec["source"] == "virtual"
-    if (model_hz is None) != (estimates_hz is None):
-        raise ValueError("model_hz and estimates_hz: give both or neither")
-    if model_hz is not None:
-        estimates_hz = [float(e) for e in estimates_hz]
-        if len(estimates_hz) != len(model_hz):
-            raise ValueError(f"estimates_hz: expected {len(model_hz)} estimates, one per model frequency, "
-                             f"got {len(estimates_hz)}")
-        dev = np.asarray(model_hz) / np.asarray(estimates_hz) - 1
-        notes.append("Grid model, four lowest frequencies: " + ", ".join(
-            f"{f:.3f} Hz ({100 * d:+.1f} % from {e})" for f, d, e in zip(model_hz, dev, estimates_hz))
-            + f"; all within 5 %: {'yes' if np.all(np.abs(dev) <= 0.05) else 'no'}.")
     n_seeds = identified["seed"].nunique()
     notes.append(f"Reproduced = mean over {n_seeds} {'virtual shaking tests (seeds)' if virtual else 'record(s)'}; "
                  "'actual' is the virtual grid's true frequency, 'est' our automatic peak picking.")
-    tspec = spec["tables"][number]
-    if not virtual:
-        return notes
-    finding = tspec.get("finding")
-    if finding in ("filtering", "cutoff"):
-        for method in ("tcm", "era"):
-            run = tspec["runs"][method]
-            before = _mean_abs_err(identified, tspec["reference_case"], run, method)
-            after = _mean_abs_err(identified, tspec["case"], run, method)
-            if finding == "filtering":
-                notes.append(f"Finding 'filtering at {spec['cases'][tspec['case']]:g} Hz improves the {method.upper()}': "
-                             f"mean |error| of true modes 1-4 (missed = 100 %) "
-                             f"{100 * before:.1f} % raw -> {100 * after:.1f} % filtered: "
-                             f"{'reproduced' if after < before else 'not reproduced'}.")
-            else:
-                notes.append(f"Finding 'filtering at {spec['cases'][tspec['case']]:g} Hz instead of "
-                             f"{spec['cases'][tspec['reference_case']]:g} Hz does not improve the {method.upper()}': "
-                             f"mean |error| {100 * before:.1f} % -> {100 * after:.1f} %: "
-                             f"{'reproduced' if after >= before else 'not reproduced'}.")
-    if finding == "cutoff":
+    notes += [f["note"] for f in findings if not f["note"].startswith("Grid model")]
+    if virtual and spec["tables"][number].get("finding") == "cutoff":
         notes.append("Percent changes are 100 |f(7.5 Hz) - f(10 Hz)| / f(10 Hz) of the means. The thesis's own ERA "
                      "percentages do not follow from its Tables 11 and 12 (.78 -> .84 is 7.7 %, printed 65.0), and "
                      "its Table 12 ERA column equals Table 13's m = 3 column: probably a slip in the thesis.")
-    if finding == "data_sets":
-        m1 = _mean_abs_err(identified, tspec["case"], tspec["runs"]["era m=1"], "era")
-        m3 = _mean_abs_err(identified, tspec["case"], tspec["runs"]["era m=3"], "era")
-        notes.append(f"Finding 'multiple data sets help the ERA': mean |error| {100 * m1:.1f} % (m = 1) -> "
-                     f"{100 * m3:.1f} % (m = 3): {'reproduced' if m3 < m1 else 'not reproduced'}.")
-    if finding == "inclusion":
-        (method, run), = tspec["runs"].items()
-        rows = identified[(identified["case"] == tspec["case"]) & (identified["run"] == run)]
-        ok = []
-        for seed, g in rows.groupby("seed"):
-            by_n = {n: h.sort_values("mode")["freq_hz"].to_numpy() for n, h in g.groupby("n")}
-            ok.append(inclusion_holds(by_n))
-        notes.append(f"Finding 'the {method.upper()} frequencies obey the inclusion principle as n grows' (Eq. 20): "
-                     f"holds in {sum(ok)} of {len(ok)} virtual tests: "
-                     f"{'reproduced' if all(ok) else 'reproduced in part' if any(ok) else 'not reproduced'}.")
     return notes
+
+
+def stand_in_findings(identified: pd.DataFrame, published: pd.DataFrame, spec: Mapping) -> dict[int, list[dict]]:
+    """Every grid table's findings on the virtual grid (:func:`grid_findings`),
+    keyed by table number, for :func:`modal.thesis.report.reproduction_summary`
+    (``stand_in``); empty for a measured record, which is no stand-in."""
+    if spec["source"] != "virtual":
+        return {}
+    out = {}
+    for number in sorted(int(n) for n in spec["tables"]):
+        rows = published[published["table"] == number]
+        out[number] = grid_findings(number, identified, spec, *model_against_estimates(number, rows, spec))
+    return out

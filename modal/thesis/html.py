@@ -27,6 +27,8 @@ SUMMARY_COLUMNS = {
     "max_abs_rel_dev": "Largest abs. deviation",
     "worst": "Where",
     "verdict": "Verdict",
+    "cause": "Cause",
+    "stable": "Noise test stable",
     "why": "Why",
 }
 
@@ -94,10 +96,17 @@ def provenance(root, default: Mapping, used: Mapping, configfiles: Sequence[str]
     )
 
 
+def claims_html(claims: pd.DataFrame) -> str:
+    """``claims.csv`` (:func:`modal.thesis.claims.evaluate_claims`) as an HTML table."""
+    shown = claims.rename(columns={"claim": "Claim (quoted)", "section": "Section", "criterion": "Criterion",
+                                   "holds": "Holds", "numbers": "Numbers"})
+    return shown.to_html(index=False, border=0, classes="claims", na_rep="")
+
+
 def summary_frame(summary: pd.DataFrame) -> pd.DataFrame:
     """``summary.csv`` as a reader sees it: counts as integers, the largest
     deviation in percent (three significant digits), headings in words."""
-    shown = summary[list(SUMMARY_COLUMNS)].copy()
+    shown = summary[[c for c in SUMMARY_COLUMNS if c in summary]].copy()
     shown["n_within_noise"] = shown["n_within_noise"].map(lambda v: "" if pd.isna(v) else str(int(v)))
     shown["max_abs_rel_dev"] = shown["max_abs_rel_dev"].map(lambda v: "" if pd.isna(v) else f"{100 * v:.3g} %")
     return shown.fillna("").rename(columns=SUMMARY_COLUMNS)
@@ -140,7 +149,7 @@ def png_data_uri(path) -> str:
 
 def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[str],
                   tables: Mapping[int, dict], figures: Mapping[int, dict], extras: Sequence[dict],
-                  provenance: Mapping[str, str]) -> str:
+                  provenance: Mapping[str, str], claims: pd.DataFrame | None = None) -> str:
     """The self-contained report page.
 
     Parameters
@@ -162,7 +171,13 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
         record's modes).
     provenance : mapping
         What the page came from (config files), shown at its foot.
+    claims : DataFrame, optional
+        ``results/tables/claims.csv``: the thesis's findings as checks, shown
+        in their own section with their count.
     """
+    from .claims import claims_headline
+    from .report import headline
+
     import jinja2
 
     template = Path(template)
@@ -171,8 +186,9 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
     markup = jinja2.utils.markupsafe.Markup
     return env.get_template(template.name).render(
         summary=markup(summary_html(summary)),
-        counts=summary["verdict"].value_counts().to_dict(),
-        n_tables=len(summary),
+        headline=headline(summary),
+        claims=markup(claims_html(claims)) if claims is not None else None,
+        claims_headline=claims_headline(claims) if claims is not None else "",
         definitions=definitions,
         tables=[dict(number=n, title=t["title"], notes=t.get("notes", []),
                      html=markup(layout_html(t["frame"])) if t["frame"] is not None else None)

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.figure import Figure
 
+from .report import VERDICTS
 from ..identification import align_shapes
 from ..structures import SimplySupportedBeam
 from .tables import NOISE_FREE_SEED, assign_modes, interpretation_name
@@ -279,8 +280,7 @@ def response_figure(acc: np.ndarray, dt: float, numbers, title: str, spectrum: b
     return fig
 
 
-VERDICT_COLORS = {"reproduced to the printed digits": "tab:green", "within 1 %": "tab:olive",
-                  "within noise spread": "tab:orange", "not reproduced": "tab:red"}
+VERDICT_COLORS = dict(zip(VERDICTS, ("tab:green", "tab:olive", "tab:orange", "tab:blue", "tab:purple", "tab:red")))
 
 
 def deviation_figure(summary: pd.DataFrame) -> Figure:

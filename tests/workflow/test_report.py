@@ -8,7 +8,8 @@ import pytest
 import modal.thesis.html as html
 import modal.thesis.report as report
 import modal.thesis.tables as tables
-from modal.thesis.report import VERDICT_CLOSE, VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED
+from modal.thesis.report import (VERDICT_CAUSE, VERDICT_CLOSE, VERDICT_NOISE, VERDICT_NOT, VERDICT_REPRODUCED,
+                                 VERDICT_STAND_IN)
 
 from workflow_run import ROOT
 
@@ -99,10 +100,26 @@ def noisy(z_values, interpretation="lower"):
 
 
 def test_noisy_table_within_noise_spread():
-    r = report.reproduction_summary({3: frame(*noisy([0.5, -1.5, 1.9, 3.0, -0.1, 1.0]))}).iloc[0]
-    assert r["verdict"] == VERDICT_NOISE  # 5 of 6 within 2 std >= 2/3
-    assert r["n_within_noise"] == 5 and r["n_match"] == 0
-    assert "5 of 6 are within 2 std" in r["why"] and "<= 10 %" in r["why"]
+    # Bonferroni 0.05/6 with 49 degrees of freedom: |t| <= 2.75, t = z / sqrt(1 + 1/50)
+    r = report.reproduction_summary({3: frame(*noisy([0.5, -1.5, 1.9, 2.5, -0.1, 1.0]))}).iloc[0]
+    assert r["verdict"] == VERDICT_NOISE
+    assert r["n_within_noise"] == 6 and r["n_match"] == 0
+    assert r["t_critical"] == pytest.approx(2.75, abs=0.01)
+    assert "6 of 6 consistent with the seed spread" in r["why"] and "<= 10 %" in r["why"]
+    # 2.5 std is within 1 standard error of the bound at 50 seeds: not stable, with the seeds it would need
+    assert r["stable"].startswith("no (about")
+    far = report.reproduction_summary({3: frame(*noisy([0.5, -1.5, 1.0, 0.2, -0.1, 1.0]))}).iloc[0]
+    assert far["verdict"] == VERDICT_NOISE and far["stable"] == "yes"
+
+
+def test_noise_verdict_does_not_flip_with_the_seed_count():
+    """The same published values at the same distance in std: 50 or 200 seeds give the same verdict when stable."""
+    for z in ([0.3, -1.0, 5.0], [0.3, -1.0, 0.8]):
+        verdicts = set()
+        for n in (50, 200):
+            rows = [{**r, "n_seeds": n} for r in noisy(z)]
+            verdicts.add(report.reproduction_summary({3: frame(*rows)}).iloc[0]["verdict"])
+        assert len(verdicts) == 1, (z, verdicts)
 
 
 def test_wide_spread_does_not_confirm_a_large_deviation():
@@ -110,14 +127,17 @@ def test_wide_spread_does_not_confirm_a_large_deviation():
     rows = [row(k + 1, "tcm", 10.0, 13.0, std=3.0, n_seeds=50) for k in range(3)]
     r = report.reproduction_summary({10: frame(*rows)}).iloc[0]
     assert r["verdict"] == VERDICT_NOT
-    assert "3 of 3 are within 2 std" in r["why"] and "30 % (TCM r=1) > 10 %" in r["why"]
+    assert "3 of 3 consistent with the seed spread" in r["why"] and "30 % (TCM r=1) > 10 %" in r["why"]
 
 
 def test_noisy_table_with_too_few_values_in_the_spread():
     r = report.reproduction_summary({3: frame(*noisy([0.5, -2.5, 3.0, 1.9, -5.0, 1.0]))}).iloc[0]
-    assert r["verdict"] == VERDICT_NOT  # 3 of 6 within 2 std < 2/3
-    assert r["n_within_noise"] == 3
-    assert "3 of 6 are within 2 std" in r["why"] and "needs 4" in r["why"]
+    assert r["verdict"] == VERDICT_NOT and r["cause"] == "unexplained"
+    assert r["n_within_noise"] == 4  # 3.0 and 5.0 std are beyond the Bonferroni bound
+    assert "4 of 6 consistent" in r["why"] and "rejected: TCM r=3" in r["why"] and "TCM r=5" in r["why"]
+    caused = report.reproduction_summary({3: frame(*noisy([0.5, -2.5, 3.0, 1.9, -5.0, 1.0]))},
+                                         causes={3: "the noise definition is not stated"}).iloc[0]
+    assert caused["verdict"] == VERDICT_CAUSE and caused["cause"] == "the noise definition is not stated"
 
 
 def test_noise_free_table_is_never_within_noise_spread():
@@ -140,7 +160,7 @@ def test_value_not_identified_is_named():
     rows = noisy([0.1, 0.2, 0.3])
     rows[0] = {**rows[0], "reproduced": np.nan, "z": np.nan, "rel_dev": np.nan, "real_pole_frac": 1.0}
     r = report.reproduction_summary({3: frame(*rows)}).iloc[0]
-    assert r["verdict"] == VERDICT_NOISE  # 2 of 3 within the spread
+    assert r["verdict"] == VERDICT_NOT  # a value not identified is not consistent with the noise
     rows[1] = {**rows[1], "reproduced": np.nan, "z": np.nan, "rel_dev": np.nan, "real_pole_frac": 1.0}
     r = report.reproduction_summary({3: frame(*rows)}).iloc[0]
     assert r["verdict"] == VERDICT_NOT
@@ -251,3 +271,20 @@ def test_aggregate_matches_modes_across_real_poles():
     # the same entries without real poles: positions are stable, so positions are modes
     clean = pd.DataFrame(rows).assign(real_pole=False)
     assert set(mt.aggregate(clean, first_seed=0)["matched_by"]) == {"position"}
+
+
+def test_stand_in_table_is_judged_by_its_findings():
+    rows = noisy([0.5, -1.0, 1.0])
+    ok = [dict(finding="multiple data sets help the ERA", holds=True, numbers="28 % -> 18 %")]
+    r = report.reproduction_summary({13: frame(*rows)}, stand_in={13: ok}).iloc[0]
+    assert r["verdict"] == VERDICT_STAND_IN and "multiple data sets help the ERA" in r["why"]
+    bad = [dict(ok[0], holds=False)]
+    r = report.reproduction_summary({13: frame(*rows)}, stand_in={13: bad}).iloc[0]
+    assert r["verdict"] == VERDICT_CAUSE and "virtual grid" in r["cause"] and "data sets" in r["cause"]
+
+
+def test_headline_counts_the_verdicts_in_scale_order():
+    tables = {1: frame(*all_match()), 2: frame(*noisy([0.1, 0.2, 9.0])), 3: frame(*noisy([0.1, 0.2, 0.3]))}
+    summary = report.reproduction_summary(tables, causes={2: "not stated"})
+    assert report.headline(summary) == ("Of 3 tables: 1 reproduced to the printed digits, 1 within 1 %, "
+                                        "1 not reproduced, cause known.")

@@ -227,6 +227,19 @@ NOTEBOOKS = [
     "05_grid",
 ]
 SUMMARY = res("tables/summary.csv")
+CLAIMS = res("tables/claims.csv")
+# The beam studies the claims read (modal.thesis.claims), those configured.
+CLAIM_STUDIES = [s for s in ("demo", "noise", "spillover", "cera") if s in config["studies"]]
+
+
+def claims_interpretation():
+    """The interpretation whose identified modes the claims read (config ``claims``)."""
+    return config.get("claims", {}).get("interpretation", "named")
+
+
+def grid_identified_file():
+    """The grid chapter's identified modes, when the config has grid tables."""
+    return [res("grid/identified.csv")] if grid_tables() else []
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.
 NOTEBOOK_PATHS = {
@@ -234,6 +247,8 @@ NOTEBOOK_PATHS = {
     "figures_dir": res("figures"),
     "identified_dir": res("identified"),
     "summary_file": SUMMARY,
+    "claims_file": CLAIMS,
+    "grid_dir": res("grid"),
     "captions_file": CAPTIONS,
 }
 
@@ -256,6 +271,8 @@ def notebook_parameters(name):
     demo = config["studies"]["demo"]
     return {
         **NOTEBOOK_PATHS,
+        "claims_interpretation": claims_interpretation(),
+        "claims_config": {k: config.get(k) for k in ("tables", "beams", "studies", "grid")},
         "published_file": config["published"],
         "table_numbers": grid_tables(),
         "figure_numbers": grid_figures(),
@@ -291,8 +308,15 @@ def notebook_inputs(name):
 
 def chapter_outputs(name):
     if name == "00_summary":
-        # its inventory checks which tables and figures exist
-        return table_files(all_tables()) + figure_files(all_figures())
+        # its inventory checks which tables and figures exist; its claims
+        # section shows claims.csv and can recompute it from the identified modes
+        return (
+            table_files(all_tables())
+            + figure_files(all_figures())
+            + [CLAIMS]
+            + [res(f"identified/{s}_{i}.csv") for s in CLAIM_STUDIES for i in config["studies"][s]["interpretations"]]
+            + grid_identified_file()
+        )
     if name == "01_method_demo":
         numbers_ = tables_of("demo")
         return (
@@ -334,7 +358,7 @@ def report_inputs():
 def report_outputs():
     """The summary, the executed notebooks and the HTML report (rule all)."""
     return (
-        [SUMMARY]
+        [SUMMARY, CLAIMS]
         + [res(f"notebooks/{name}.ipynb") for name in NOTEBOOKS]
         + [res("report.html")]
     )
@@ -347,6 +371,8 @@ TABLE_TITLES = {
     **{int(n): t["title"] for n, t in config["tables"].items()},
     **{int(n): t["title"] for n, t in config.get("grid", {}).get("tables", {}).items()},
 }
+# The known cause of each beam table's deviation (tables.N.cause), when given.
+TABLE_CAUSES = {int(n): t["cause"] for n, t in config["tables"].items() if t.get("cause")}
 with open(Path(workflow.basedir) / CAPTIONS, encoding="utf-8") as _fh:
     _CAPTIONS = yaml.safe_load(_fh)
 FIGURE_CAPTIONS = {int(n): text for n, text in _CAPTIONS["figures"].items()}

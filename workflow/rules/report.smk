@@ -8,6 +8,9 @@ rule summary:
     input:
         code=code_inputs("workflow/scripts/summary.py"),
         tables=[res(f"tables/table_{n:02d}.csv") for n in all_tables()],
+        # the grid tables are judged by the thesis's findings on the virtual grid
+        grid=grid_identified_file(),
+        published=config["published"],
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:
@@ -18,8 +21,35 @@ rule summary:
         runtime=10,
     params:
         titles=TABLE_TITLES,
+        causes=TABLE_CAUSES,
+        grid=config.get("grid"),
     script:
         "../scripts/summary.py"
+
+
+# The thesis's findings (Ch. 6-8) as checks on the regenerated results.
+rule claims:
+    input:
+        code=code_inputs("workflow/scripts/claims.py"),
+        identified=[res(f"identified/{s}_{claims_interpretation()}.csv") for s in CLAIM_STUDIES],
+        grid=grid_identified_file(),
+    output:
+        report(CLAIMS, caption="../report/claims.rst", category="Summary"),
+    log:
+        res("logs/claims.log"),
+    threads: 1
+    resources:
+        mem_mb=500,
+        runtime=10,
+    params:
+        study_names=CLAIM_STUDIES,
+        studies=config["studies"],
+        seeds=config["seeds"],
+        tables=config["tables"],
+        beams=config["beams"],
+        grid=config.get("grid"),
+    script:
+        "../scripts/claims.py"
 
 
 # One job per notebook (run_notebook.py, papermill's Python API).
@@ -55,6 +85,7 @@ rule report_html:
         template=REPORT_TEMPLATES,
         captions=CAPTIONS,
         summary=SUMMARY,
+        claims=CLAIMS,
         outputs=report_inputs(),
         default_config="config/config.yaml",
     output:

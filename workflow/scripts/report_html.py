@@ -44,6 +44,7 @@ default = yaml.safe_load(Path(snakemake.input.default_config).read_text(encoding
 provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.params.used_config,
                                              snakemake.params.configfiles)
 provenance["run"] = snakemake.params.run
+claims = pd.read_csv(snakemake.input.claims)
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
-                                       extras, provenance)
+                                       extras, provenance, claims)
 Path(snakemake.output[0]).write_text(html, encoding="utf-8")
