@@ -30,7 +30,7 @@ DRAWN = {"00_summary": 1, "01_method_demo": 1, "02_noise_study": 2, "03_spillove
 # parameters that are not paths: the live case of 01 (ζ, η, Hankel size, seeds, the beam and the
 # signals from config) and the noisy tables of 02
 CASE_PARAMETERS = {"zeta", "eta", "rows", "cols", "n_seeds", "compare_with", "beam", "interpretations",
-                   "noisy_cases"}
+                   "noisy_cases", "claims_interpretation", "claims_config"}
 
 
 def code_cells(nb):
