@@ -238,8 +238,10 @@ def identify(args) -> int:
     modes = result.modes
     print(f"{args.path.name}: {len(modes)} modes ({args.max_order // 2} orders, {len(result.poles)} poles)")
     if len(modes):
-        print("damping and damping_std: ratio to critical (fraction, not %), as in modes.csv")
-        print(modes[["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"]]
+        print("damping: ratio to critical (fraction, not %), as in modes.csv; *_std: standard deviation of the "
+              "estimate; *_spread: over the model orders")
+        print(modes[["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "n_poles", "mpc",
+                     "mamc"]]
               .to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
     return fail(EXIT_NO_MODES, f"no mode selected: {result.no_mode_reason()}")

@@ -14,7 +14,7 @@ from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
 from ._result import FLAGS, ModalResult, ModalWarning
-from ._stabilisation import Stabilisation, StabilityCriteria, stabilisation
+from ._stabilisation import Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
 __all__ = [

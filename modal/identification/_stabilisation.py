@@ -29,8 +29,8 @@ from ._result import ModalWarning, normalise_shapes
 
 POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                 "stable_freq", "stable_damping", "stable_shape", "stable"]
-MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc", "mpd",
-                "close", "close_mac"]
+MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
+                "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
 CANDIDATE_COLUMNS = ["freq_hz", "damping", "n_poles", "min_poles", "mpc", "mamc", "mpd"]
 QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
@@ -107,8 +107,11 @@ class Stabilisation:
     ----------
     modes : pandas.DataFrame
         One row per selected mode, by frequency: ``mode``, ``freq_hz`` and
-        ``freq_std_hz``, ``damping`` and ``damping_std`` (ratio; the spreads
-        of the mode's poles over the model orders), ``n_poles`` (poles
+        ``damping`` (ratio; means over the mode's poles), ``freq_std_hz`` and
+        ``damping_std`` (the standard deviation of the estimate, from the
+        ``segments`` of :func:`stabilisation`; NaN without them),
+        ``freq_spread_hz`` and ``damping_spread`` (the spread of the mode's
+        poles over the model orders: not an uncertainty), ``n_poles`` (poles
         clustered into it, at most one per order), mean ``mpc``, ``mamc`` and
         ``mpd`` (mean phase deviation, degrees), ``close`` (another mode lies
         within ``criteria.close_rtol`` in frequency) and ``close_mac`` (MAC
@@ -219,9 +222,15 @@ def stabilisation(
     criteria: StabilityCriteria | None = None,
     progress: Callable[[int, int], None] | None = None,
     quantities=None,
+    segments=None,
 ) -> Stabilisation:
     """ERA at every even model order ``2 ... max_order`` from one SVD,
     stability between orders, and modes selected by clustering.
+
+    With ``segments`` (the same data computed from ``K`` non-overlapping
+    parts of the record, e.g. their correlation functions), each mode's
+    frequency and damping get the standard deviation of their estimate
+    (:func:`segment_std`).
 
     Parameters
     ----------
@@ -251,6 +260,9 @@ def stabilisation(
         What each channel measures: ``"displacement"``, ``"velocity"`` or
         ``"acceleration"``; the shapes are then in the first channel's
         quantity (:func:`modal.era.pole_indicators`). Default: all the same.
+    segments : sequence of array_like, optional
+        ``K >= 2`` data sets shaped like ``y``, from non-overlapping parts of
+        the record: ``freq_std_hz`` and ``damping_std`` of each mode.
 
     Returns
     -------
@@ -301,6 +313,9 @@ def stabilisation(
         )
     min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
     table["mode"], modes, complex_shapes, candidates = _select_modes(table, pole_shapes, criteria, min_poles)
+    if segments is not None and len(modes):
+        modes["freq_std_hz"], modes["damping_std"] = segment_std(
+            segments, p, table, modes, rows, cols, start, l, dt)
     poles = pd.DataFrame({name: table[name] for name in POLE_COLUMNS + ["physical", "mode"]})
     spectrum_hz, spectrum = _mean_spectrum(y[:, start:], dt)
     result = Stabilisation(modes, normalise_shapes(complex_shapes), poles, pole_shapes, sv, spectrum_hz, spectrum,
@@ -392,6 +407,60 @@ def _stability(table, pole_shapes, criteria) -> dict:
     return {"stable_freq": stable_freq, "stable_damping": stable_damping, "stable_shape": stable_shape, "stable": stable}
 
 
+def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start, l, dt):
+    """Standard deviation of each mode's frequency and damping estimates from
+    ``K`` segments of the record.
+
+    The full record's observability subspace is kept: ``U`` the leading
+    left singular vectors of its ``H(0)`` (Eq. 35) at the order of the
+    mode's pole nearest its mean frequency. With ``H_k(0)``, ``H_k(1)``
+    built from segment ``k`` as in Eq. (34),
+    ``A_k = (U^T H_k(1)) (U^T H_k(0))^+`` is segment ``k``'s state matrix in
+    that basis (``U^T H(0) = T C`` and ``U^T H(1) = T A C`` for an exact
+    model, so ``A_k = T A T^-1``); its eigenvalue nearest the mode's pole
+    (Eq. 44, in ``s = ln z / dt``) gives the segment's frequency and
+    damping. The segments' estimates scatter with the record's noise; the
+    standard deviation of their mean, ``std_k / sqrt(K)``, is that of the
+    estimate from the whole record. NaN where a segment has no eigenvalue
+    (``K < 2``).
+
+    Returns
+    -------
+    freq_std_hz, damping_std : ndarray, shape (n_modes,)
+    """
+    segments = [records("segments", s) for s in segments]
+    k_seg = len(segments)
+    n_modes = len(modes)
+    if k_seg < 2:
+        return np.full(n_modes, np.nan), np.full(n_modes, np.nan)
+    labels, f_pole, order = poles["mode"], poles["freq_hz"], poles["order"]
+    seeds = []
+    for number, f in zip(modes["mode"], modes["freq_hz"]):
+        members = np.flatnonzero(labels == number)
+        r = members[np.argmin(np.abs(f_pole[members] - f))]
+        omega, zeta = 2 * np.pi * f_pole[r], poles["damping"][r]
+        seeds.append((int(order[r]), omega * complex(-zeta, np.sqrt(max(1 - zeta**2, 0.0)))))
+    n_max = max(n for n, _ in seeds)
+    u = p[:, :n_max]
+    freq, damping = np.full((k_seg, n_modes), np.nan), np.full((k_seg, n_modes), np.nan)
+    for k, segment in enumerate(segments):
+        h = hankel(segment, rows + 1, cols, start)
+        g0, g1 = u.T @ h[:-l], u.T @ h[l:]
+        for j, (n, s0) in enumerate(seeds):
+            z = np.linalg.eigvals(g1[:n] @ np.linalg.pinv(g0[:n]))
+            with np.errstate(divide="ignore", invalid="ignore"):
+                s = np.log(z.astype(complex)) / dt
+            s = s[np.isfinite(s)]
+            if s.size:
+                near = s[np.argmin(np.abs(s - s0))]
+                freq[k, j] = abs(near) / (2 * np.pi)
+                damping[k, j] = -near.real / abs(near)
+    from scipy.stats import norm, t
+
+    scale = t.ppf(0.975, k_seg - 1) / norm.ppf(0.975) / np.sqrt(k_seg)
+    return np.nanstd(freq, axis=0, ddof=1) * scale, np.nanstd(damping, axis=0, ddof=1) * scale
+
+
 def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int):
     """Cluster the stable physical poles by frequency and shape into modes.
 
@@ -452,8 +521,9 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     mode_shapes = shapes[:, medoids[kept]]
     close, close_mac = _close_modes(mean["freq_hz"][kept], mode_shapes, criteria.close_rtol)
     modes = pd.DataFrame({
-        "mode": np.arange(1, len(kept) + 1), "freq_hz": mean["freq_hz"][kept], "freq_std_hz": std["freq_hz"][kept],
-        "damping": mean["damping"][kept], "damping_std": std["damping"][kept], "n_poles": count[kept],
+        "mode": np.arange(1, len(kept) + 1), "freq_hz": mean["freq_hz"][kept], "freq_std_hz": np.nan,
+        "freq_spread_hz": std["freq_hz"][kept], "damping": mean["damping"][kept], "damping_std": np.nan,
+        "damping_spread": std["damping"][kept], "n_poles": count[kept],
         "mpc": mean["mpc"][kept], "mamc": mean["mamc"][kept], "mpd": mean["mpd"][kept], "close": close,
         "close_mac": close_mac,
     })

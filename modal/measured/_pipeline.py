@@ -22,6 +22,12 @@ AUTO_PERIODS = 3
 #: ``AUTO_ROWS / AUTO_PERIODS`` samples per period of that peak (at most), so
 #: the band kept reaches some ``AUTO_ROWS / (2.5 AUTO_PERIODS)`` = 27 times it.
 AUTO_ROWS = 200
+#: Ambient records are also cut into this many non-overlapping segments,
+#: whose correlations give the standard deviation of each frequency and
+#: damping (:func:`modal.identification.segment_std`): fewer when a segment
+#: would be shorter than twice the lags, none below :data:`MIN_SEGMENTS`.
+SEGMENTS = 10
+MIN_SEGMENTS = 4
 
 
 def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
@@ -296,7 +302,16 @@ def identify_record(
         _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs)
         log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
         data, start, cols = correlations(y, n_lags, refs=refs), 0, None
+        n_segments = min(SEGMENTS, y.shape[0] // (2 * n_lags))
+        if n_segments >= MIN_SEGMENTS:
+            length = y.shape[0] // n_segments
+            segments = [correlations(y[k * length:(k + 1) * length], n_lags, refs=refs) for k in range(n_segments)]
+            log(f"uncertainty: {n_segments} segments of {length} samples")
+        else:
+            segments = None
+            log(f"no uncertainty: the record holds fewer than {MIN_SEGMENTS} segments of twice {n_lags} lags")
     else:
+        segments = None  # a free decay is one event: no segments to compare
         start = decay_start(y)
         log(f"free decay from sample {start} (t = {start * dt:.4g} s)")
         data = y
@@ -306,7 +321,7 @@ def identify_record(
         _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None)
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
-                           progress=progress, quantities=quantities)
+                           progress=progress, quantities=quantities, segments=segments)
     return result, dt
 
 
@@ -319,7 +334,9 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     :func:`identify_record` on the chosen channels, then
 
     - ``out/modes.csv``: one row per selected mode (``mode``, ``freq_hz``,
-      ``freq_std_hz``, ``damping`` and ``damping_std`` as ratios to critical
+      ``freq_std_hz`` (standard deviation of the estimate), ``freq_spread_hz``
+      (spread over the model orders), ``damping``, ``damping_std`` and
+      ``damping_spread`` as ratios to critical
       (fractions, not %), ``n_poles``, ``mpc``, ``mamc``) and its shape, one
       column per channel: ``phi_<name>`` when the record names its channels
       (a CSV header, ``.lvm`` or UFF names: ``record.channels["name"]``),

@@ -467,8 +467,8 @@ def test_select_modes_spread_and_candidate_table():
     table["damping"] = np.array([0.01, 0.012, 0.014, 0.02, 0.021, 0.03])
     _, modes, _, candidates = _select_modes(table, shapes, modal.StabilityCriteria(), 3)
     assert modes["freq_hz"].tolist() == pytest.approx([1.002])
-    assert modes["freq_std_hz"][0] == pytest.approx(0.002, rel=1e-9)
-    assert modes["damping_std"][0] == pytest.approx(0.002, rel=1e-9)
+    assert modes["freq_spread_hz"][0] == pytest.approx(0.002, rel=1e-9)
+    assert modes["damping_spread"][0] == pytest.approx(0.002, rel=1e-9)
     assert list(candidates.columns) == CANDIDATE_COLUMNS
     assert candidates.index.tolist() == [0] and candidates["freq_hz"][0] == pytest.approx(3.0015)
     assert candidates["damping"][0] == pytest.approx(0.0205)
@@ -483,7 +483,7 @@ def test_select_modes_spread_and_candidate_table():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         _, modes, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(), 1)
-    assert modes["n_poles"].tolist() == [3, 1, 2] and np.isnan(modes["freq_std_hz"][1])
+    assert modes["n_poles"].tolist() == [3, 1, 2] and np.isnan(modes["freq_spread_hz"][1])
 
 
 def test_gram_pays_follows_the_documented_operation_counts():

@@ -186,8 +186,8 @@ def test_select_modes_on_a_known_pole_table():
     for row, members in ((0, [3, 4, 5]), (1, [0, 1, 2])):
         for column in ("freq_hz", "damping", "mpc", "mamc"):
             assert modes[column].iloc[row] == pytest.approx(poles[column][members].mean(), rel=1e-12)
-        assert modes["freq_std_hz"].iloc[row] == pytest.approx(np.std(poles["freq_hz"][members], ddof=1), rel=1e-9)
-        assert modes["damping_std"].iloc[row] == pytest.approx(np.std(poles["damping"][members], ddof=1), rel=1e-9)
+        assert modes["freq_spread_hz"].iloc[row] == pytest.approx(np.std(poles["freq_hz"][members], ddof=1), rel=1e-9)
+        assert modes["damping_spread"].iloc[row] == pytest.approx(np.std(poles["damping"][members], ddof=1), rel=1e-9)
     np.testing.assert_array_equal(reps[:, 0], a[1])  # the middle frequency, 1.0 Hz, is the medoid
     np.testing.assert_array_equal(reps[:, 1], e[1])
 
@@ -210,8 +210,8 @@ def test_select_modes_without_a_large_enough_cluster():
     poles, pole_shapes = _pole_table([1.0, 2.0, 3.0], [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     labels, modes, reps = select(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
     assert modes.empty and reps.shape == (2, 0) and not labels.any()
-    assert list(modes.columns) == ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc",
-                                   "mpd", "close", "close_mac"]
+    assert list(modes.columns) == ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std",
+                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
     assert all(modes.dtypes == float)
 
 
@@ -253,8 +253,8 @@ def test_stabilisation_stops_at_the_numerical_rank():
         "oscillation; check the record and the channels used"]
     POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                     "stable_freq", "stable_damping", "stable_shape", "stable"]
-    MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc", "mpd",
-                    "close", "close_mac"]
+    MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
+                    "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
 
     assert list(result.poles.columns) == POLE_COLUMNS + ["physical", "mode"] and result.poles.empty
     assert result.poles["order"].dtype.kind == "i" and result.poles["mode"].dtype.kind == "i"
@@ -439,7 +439,7 @@ def test_select_modes_one_pole_modes_have_nan_spread_silently():
     np.testing.assert_array_equal(modes["n_poles"], [1, 1])
     np.testing.assert_array_equal(modes["freq_hz"], [1.0, 3.0])
     np.testing.assert_array_equal(modes["damping"], poles["damping"][[1, 0]])
-    assert modes["freq_std_hz"].isna().all() and modes["damping_std"].isna().all()
+    assert modes["freq_spread_hz"].isna().all() and modes["damping_spread"].isna().all()
     np.testing.assert_array_equal(reps, [[0.0, 1.0], [1.0, 0.0]])
 
 

@@ -19,7 +19,8 @@ def test_cli_identify_palisaden(tmp_path):
     import pandas as pd
 
     modes = pd.read_csv(out / "modes.csv")
-    for column in ("freq_hz", "freq_std_hz", "damping", "damping_std", "n_poles", "mpc", "mamc"):
+    for column in ("freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread", "n_poles",
+                   "mpc", "mamc"):
         assert column in modes
     for published in PALISADEN_MODES_HZ:
         assert np.min(np.abs(modes["freq_hz"] - published)) / published < 0.005
