@@ -25,8 +25,9 @@ from .identification import (FLAGS, ModalResult, ModalWarning, Stabilisation, St
 from .measured import (OutputError, available_memory, identify_record, memory_needed,
                        write_identification)
 from .records import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
-from .setups import (Geometry, MergedModes, Setup, check_setups, direction_from_angles, draw_modes, identify_setup,
-                     merge_setups, mode_shape_animation, mode_shape_figure, node_motion, node_shapes, plate_roving_test,
+from .setups import (Geometry, MergedModes, Setup, check_setups, direction_from_angles, draw_mode, draw_modes,
+                     identify_setup,
+                     merge_setups, mode_shape_animation, mode_shape_figure, modes_figure, node_motion, node_shapes, plate_roving_test,
                      read_channel_table, read_geometry, read_pyoma_setup, read_setup, save_geometry, save_setup,
                      write_setups)
 from .signals import (acceleration_offset, amplitude_spectrum, correlations, decay_start, decimate, detrend, integrate_acceleration,
@@ -40,10 +41,10 @@ __all__ = [
     "Record", "Setup", "ShakeTest", "SimplySupportedBeam", "SimplySupportedPlate", "Stabilisation", "StabilityCriteria",
     "acceleration_offset", "add_noise", "align_shapes", "ambient_response", "amplitude_spectrum", "available_memory",
     "beam_impulse_response", "cera", "check_setups", "correlations", "damping_ratios", "decay_start", "decimate",
-    "decompose", "detrend", "direction_from_angles", "draw_modes", "era", "hankel", "identify_record",
+    "decompose", "detrend", "direction_from_angles", "draw_mode", "draw_modes", "era", "hankel", "identify_record",
     "identify_setup", "impulse_response", "integrate_acceleration", "load_record", "lowpass_fft", "mac",
     "memory_needed", "merge_setups", "modal_amplitude_coherence", "modal_phase_collinearity", "mode_shape_animation",
-    "mode_shape_figure", "node_motion", "node_shapes", "pick_peaks", "plate_roving_test", "read_channel_table", "read_geometry",
+    "mode_shape_figure", "modes_figure", "node_motion", "node_shapes", "pick_peaks", "plate_roving_test", "read_channel_table", "read_geometry",
     "read_pyoma_setup", "read_record", "read_setup", "save_geometry", "save_record_npz", "save_setup", "select_sharpest", "shake_test", "sharpness",
     "split_record", "stabilisation", "stabilisation_figure", "tcm", "with_noise", "write_identification",
     "write_setups", "write_uff58", "zero_phase_filter",

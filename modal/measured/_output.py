@@ -108,7 +108,8 @@ def staged_folder(out: Path):
 
     A new ``out`` is the staging folder renamed (atomic); in an existing
     folder each file is replaced (``os.replace``, atomic per file) after all
-    of them are written, and other files in it are left alone.
+    of them are written, a sub-folder as a whole (the old one moved aside,
+    the new one in its place), and other files in it are left alone.
 
     Raises
     ------
@@ -137,7 +138,14 @@ def staged_folder(out: Path):
                 if not out.is_dir():
                     raise
         for item in sorted(staging.iterdir()):
-            os.replace(item, out / item.name)
+            target = out / item.name
+            if item.is_dir() and target.is_dir():  # a folder of results (setups/<name>/): the old one aside, then gone
+                old = Path(tempfile.mkdtemp(prefix=f".{item.name}.", suffix=".old", dir=out))
+                os.replace(target, old / item.name)
+                os.replace(item, target)
+                shutil.rmtree(old)
+            else:
+                os.replace(item, target)
         staging.rmdir()
     except BaseException:
         shutil.rmtree(staging, ignore_errors=True)

@@ -42,11 +42,12 @@ def node_motion(geometry: Geometry, shapes: pd.DataFrame, mode: int) -> tuple[np
     return np.nan_to_num(u), measured
 
 
-def _axes(figure, geometry):
-    ax = figure.add_subplot(projection="3d")
+def _axes(figure, geometry, position=(1, 1, 1)):
+    ax = figure.add_subplot(*position, projection="3d")
     points = np.vstack([geometry.coordinates, geometry.background_nodes])
     span = np.ptp(points, axis=0)
-    ax.set_box_aspect(np.maximum(span, 0.05 * span.max()))
+    # room for the largest drawn displacement either way, also across a flat structure
+    ax.set_box_aspect(np.maximum(span, 2 * DRAWN_FRACTION * geometry.size))
     ax.set_axis_off()
     return ax
 
@@ -63,17 +64,13 @@ def _scale(geometry, u) -> float:
     return DRAWN_FRACTION * geometry.size / peak if peak > 0 else 0.0
 
 
-def mode_shape_figure(geometry: Geometry, shapes: pd.DataFrame, mode: int, title: str | None = None):
-    """The mode drawn on the structure: background (grey), the undeformed
-    lines (dashed) and the deformed ones (the real view of the shape, the
-    largest displacement :data:`DRAWN_FRACTION` of the structure's size);
-    measured nodes as dots. Returns a matplotlib ``Figure``."""
-    from matplotlib.figure import Figure
-
+def draw_mode(ax, geometry: Geometry, shapes: pd.DataFrame, mode: int, title: str | None = None) -> None:
+    """Draw the mode on the 3D axes ``ax``: background (grey), the
+    undeformed lines (dashed) and the deformed ones (the real view of the
+    shape, the largest displacement :data:`DRAWN_FRACTION` of the
+    structure's size); measured nodes as dots."""
     u, measured = node_motion(geometry, shapes, mode)
     xyz = geometry.coordinates
-    figure = Figure(figsize=(5, 5))
-    ax = _axes(figure, geometry)
     for a, b in geometry.background_lines:
         ax.plot(*geometry.background_nodes[[a, b]].T, color="0.85", lw=0.8)
     _draw(ax, geometry, xyz, "0.6", "--", 0.8)
@@ -81,7 +78,29 @@ def mode_shape_figure(geometry: Geometry, shapes: pd.DataFrame, mode: int, title
     _draw(ax, geometry, deformed, "C0", "-", 1.8)
     ax.scatter(*deformed[measured].T, color="C3", s=12, depthshade=False)
     ax.set_title(title or f"mode {mode}", fontsize=10)
+
+
+def mode_shape_figure(geometry: Geometry, shapes: pd.DataFrame, mode: int, title: str | None = None):
+    """One mode drawn on the structure (:func:`draw_mode`); a matplotlib
+    ``Figure``."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(5, 5))
+    draw_mode(_axes(figure, geometry), geometry, shapes, mode, title)
     figure.subplots_adjust(0, 0, 1, 0.95)
+    return figure
+
+
+def modes_figure(geometry: Geometry, shapes: pd.DataFrame, titles: dict, columns: int = 3):
+    """Every mode of ``titles`` (mode number -> title) drawn side by side,
+    ``columns`` per row (:func:`draw_mode`); a matplotlib ``Figure``."""
+    from matplotlib.figure import Figure
+
+    rows = max(1, -(-len(titles) // columns))
+    figure = Figure(figsize=(3.6 * columns, 3.6 * rows))
+    for k, (mode, title) in enumerate(titles.items()):
+        draw_mode(_axes(figure, geometry, (rows, columns, k + 1)), geometry, shapes, mode, title)
+    figure.subplots_adjust(0, 0, 1, 0.95, wspace=0, hspace=0.08)
     return figure
 
 

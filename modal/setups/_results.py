@@ -26,8 +26,9 @@ def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min
     - ``setups/<name>/``: each setup's own results, as ``modal identify``
       writes a record's (modes, complex shapes, candidates, poles, the
       stabilisation diagram);
-    - with a ``geometry``: ``mode_<k>.png`` (the shape drawn on the
-      structure) and, with ``animate``, ``mode_<k>.gif`` (one cycle).
+    - with a ``geometry``: ``modes.png`` (every mode drawn on the
+      structure), ``mode_<k>.png`` (one mode) and, with ``animate``,
+      ``mode_<k>.gif`` (one cycle).
 
     The folder is complete or untouched, as :func:`modal.write_identification`
     writes one (:func:`modal.measured.check_output`, a staged folder).
@@ -88,13 +89,17 @@ def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min
 
 
 def draw_modes(geometry, merged: MergedModes, folder, animate=True) -> list[Path]:
-    """``mode_<k>.png`` (and ``mode_<k>.gif``) of each merged mode in
-    ``folder``; returns the pictures' paths."""
-    from ._drawing import mode_shape_animation, mode_shape_figure
+    """``modes.png`` (all modes), ``mode_<k>.png`` (and ``mode_<k>.gif``) of
+    each merged mode in ``folder``; returns the pictures' paths."""
+    from ._drawing import mode_shape_animation, mode_shape_figure, modes_figure
 
-    folder, paths = Path(folder), []
+    folder = Path(folder)
+    titles = {mode.mode: f"mode {mode.mode}: {mode.freq_hz:.4g} Hz, damping {100 * mode.damping:.2g} %"
+              for mode in merged.modes.itertuples()}
+    paths = [folder / "modes.png"]
+    modes_figure(geometry, merged.shapes, titles).savefig(paths[0], dpi=90)
     for mode in merged.modes.itertuples():
-        title = f"mode {mode.mode}: {mode.freq_hz:.4g} Hz, damping {100 * mode.damping:.2g} %"
+        title = titles[mode.mode]
         figure = mode_shape_figure(geometry, merged.shapes, mode.mode, title=title)
         paths.append(folder / f"mode_{mode.mode}.png")
         figure.savefig(paths[-1], dpi=110)

@@ -548,6 +548,8 @@ def measured_problems(key: str, spec: Mapping) -> list[str]:
     and check its channel and reference choices, before any job runs."""
     from ..records import read_record
 
+    if "setups" in spec:
+        return setups_problems(key, spec)
     if not Path(spec["path"]).is_file():
         return [f"{key}.path = {spec['path']!r}: no such file (relative to {Path.cwd()})"]
     try:
@@ -573,6 +575,30 @@ def measured_problems(key: str, spec: Mapping) -> list[str]:
                             f"(fs = {record.fs:g} Hz)")
     if spec.get("fmax") is not None and spec.get("highpass_hz") is not None and spec["highpass_hz"] >= spec["fmax"]:
         problems.append(f"{key}.highpass_hz = {spec['highpass_hz']} Hz must be below fmax = {spec['fmax']} Hz")
+    return problems
+
+
+def setups_problems(key: str, spec: Mapping) -> list[str]:
+    """Read a roving test's setups and geometry (:func:`modal.read_setup`,
+    :func:`modal.read_geometry`) and check that they share their reference
+    channels (:func:`modal.check_setups`), before any job runs."""
+    from ..setups import check_setups, read_geometry, read_setup
+
+    try:
+        geometry = read_geometry(spec["geometry"]) if spec.get("geometry") else None
+    except ValueError as exc:
+        return [f"{key}.geometry = {spec['geometry']!r}: {exc}"]
+    setups, problems = [], []
+    for i, path in enumerate(spec["setups"]):
+        try:
+            setups.append(read_setup(path, spec.get("fs"), geometry))
+        except (ValueError, OSError) as exc:
+            problems.append(f"{key}.setups[{i}] = {path!r}: {exc}")
+    if not problems:
+        try:
+            check_setups(setups)
+        except ValueError as exc:
+            problems.append(f"{key}.setups: {exc}")
     return problems
 
 

@@ -268,3 +268,23 @@ def test_changed_config_without_run_name_refused_by_snakemake(tmp_path):
     proc = run_snakemake(work, "-n", "--configfile", SMALL_CONFIG_FILE, check=False)
     assert proc.returncode != 0
     assert "--config run=<name>" in proc.stdout + proc.stderr
+
+
+# --- 8. roving tests: setups with their geometry, no channels or refs of their own ----------
+@pytest.mark.parametrize("change, fragment", [
+    ({"path": "tests/data/palisaden_20hz_30min.npy"}, "measured.roving_plate"),
+    ({"refs": [0]}, "measured.roving_plate"),
+    ({"geometry": None}, "measured.roving_plate"),
+    ({"setups": ["tests/data/roving_plate/setup_1", "tests/data/roving_plate/nowhere"]},
+     "measured.roving_plate.setups[1] = 'tests/data/roving_plate/nowhere': tests/data/roving_plate/nowhere: no such "
+     "setup"),
+    ({"geometry": "tests/data/palisaden_geometry"},
+     "measured.roving_plate.setups[0] = 'tests/data/roving_plate/setup_1': tests/data/roving_plate/setup_1/channels.csv: "
+     "node(s) 1-1, 2-1, 3-1, 4-1, 5-3 not in the geometry"),
+])
+def test_roving_test_refusals(change, fragment, monkeypatch):
+    config = base_config()
+    config["measured"]["roving_plate"].update(change)
+    if change.get("geometry", "") is None:
+        del config["measured"]["roving_plate"]["geometry"]
+    assert fragment in refusal(config, monkeypatch)

@@ -289,3 +289,14 @@ def test_measured_record_identified(workdir):
         assert (modes["freq_hz"] - published).abs().min() / published < 0.005
     assert (workdir / "results/measured/palisaden/stabilisation.png").read_bytes()[:4] == b"\x89PNG"
 
+
+
+def test_roving_test_merged(workdir):
+    """config "measured" with setups: the simulated plate's six setups give
+    its five modes (within 0.5 %) with shapes at its 20 nodes, drawn."""
+    modes = pd.read_csv(workdir / "results/measured/roving_plate/modes.csv")
+    assert modes["freq_hz"].to_numpy() == pytest.approx([5.014, 9.642, 15.427, 17.355, 20.055], rel=5e-3)
+    shapes = pd.read_csv(workdir / "results/measured/roving_plate/shapes.csv")
+    assert len(shapes) == 5 * 20 and shapes["z"].notna().all()
+    assert (workdir / "results/measured/roving_plate/modes.png").read_bytes()[:4] == b"\x89PNG"
+    assert "Roving test &#39;roving_plate&#39;" in (workdir / "results/report.html").read_text(encoding="utf-8")

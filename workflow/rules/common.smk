@@ -3,6 +3,7 @@
 import functools
 import hashlib
 import os
+import re
 import yaml
 from pathlib import Path
 
@@ -135,13 +136,44 @@ def numbers(mapping):
     return sorted(int(n) for n in mapping)
 
 
+def measured_names(kind):
+    """Names of the "measured" entries with a ``path`` (one record) or with
+    ``setups`` (a roving test)."""
+    return sorted(
+        n for n, spec in (config.get("measured") or {}).items() if kind in spec
+    )
+
+
+def names_regex(names):
+    """A wildcard constraint matching exactly ``names`` (none: nothing)."""
+    return "|".join(re.escape(n) for n in names) or "(?!)"
+
+
+def setup_files(spec):
+    """Every file of a roving test's setups and geometry folders (its raw
+    inputs: an edit reruns it)."""
+    roots = [Path(p) for p in spec["setups"]] + (
+        [Path(spec["geometry"])] if spec.get("geometry") else []
+    )
+    return sorted(
+        str(f)
+        for root in roots
+        for f in ([root] if root.is_file() else root.rglob("*"))
+        if f.is_file()
+    )
+
+
 def measured_outputs():
-    """modes.csv and the stabilisation diagram of every record in config "measured"."""
-    names = sorted(config.get("measured") or {})
+    """modes.csv and the stabilisation diagram of every record in config
+    "measured"; modes.csv, shapes.csv and the modes drawn of every roving test."""
     return [
         res(f"measured/{n}/{f}")
-        for n in names
+        for n in measured_names("path")
         for f in ("modes.csv", "stabilisation.png")
+    ] + [
+        res(f"measured/{n}/{f}")
+        for n in measured_names("setups")
+        for f in ("modes.csv", "shapes.csv", "modes.png")
     ]
 
 
@@ -229,7 +261,9 @@ NOTEBOOKS = [
 SUMMARY = res("tables/summary.csv")
 CLAIMS = res("tables/claims.csv")
 # The beam studies the claims read (modal.thesis.claims), those configured.
-CLAIM_STUDIES = [s for s in ("demo", "noise", "spillover", "cera") if s in config["studies"]]
+CLAIM_STUDIES = [
+    s for s in ("demo", "noise", "spillover", "cera") if s in config["studies"]
+]
 
 
 def claims_interpretation():
@@ -240,6 +274,8 @@ def claims_interpretation():
 def grid_identified_file():
     """The grid chapter's identified modes, when the config has grid tables."""
     return [res("grid/identified.csv")] if grid_tables() else []
+
+
 # Handed to the notebooks' `parameters` cells (each gets those it declares):
 # paths relative to the project root, where papermill runs them.
 NOTEBOOK_PATHS = {
@@ -272,7 +308,9 @@ def notebook_parameters(name):
     return {
         **NOTEBOOK_PATHS,
         "claims_interpretation": claims_interpretation(),
-        "claims_config": {k: config.get(k) for k in ("tables", "beams", "studies", "grid")},
+        "claims_config": {
+            k: config.get(k) for k in ("tables", "beams", "studies", "grid")
+        },
         "published_file": config["published"],
         "table_numbers": grid_tables(),
         "figure_numbers": grid_figures(),
@@ -314,7 +352,11 @@ def chapter_outputs(name):
             table_files(all_tables())
             + figure_files(all_figures())
             + [CLAIMS]
-            + [res(f"identified/{s}_{i}.csv") for s in CLAIM_STUDIES for i in config["studies"][s]["interpretations"]]
+            + [
+                res(f"identified/{s}_{i}.csv")
+                for s in CLAIM_STUDIES
+                for i in config["studies"][s]["interpretations"]
+            ]
             + grid_identified_file()
         )
     if name == "01_method_demo":
@@ -372,7 +414,9 @@ TABLE_TITLES = {
     **{int(n): t["title"] for n, t in config.get("grid", {}).get("tables", {}).items()},
 }
 # The known cause of each beam table's deviation (tables.N.cause), when given.
-TABLE_CAUSES = {int(n): t["cause"] for n, t in config["tables"].items() if t.get("cause")}
+TABLE_CAUSES = {
+    int(n): t["cause"] for n, t in config["tables"].items() if t.get("cause")
+}
 with open(Path(workflow.basedir) / CAPTIONS, encoding="utf-8") as _fh:
     _CAPTIONS = yaml.safe_load(_fh)
 FIGURE_CAPTIONS = {int(n): text for n, text in _CAPTIONS["figures"].items()}

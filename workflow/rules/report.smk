@@ -31,7 +31,9 @@ rule summary:
 rule claims:
     input:
         code=code_inputs("workflow/scripts/claims.py"),
-        identified=[res(f"identified/{s}_{claims_interpretation()}.csv") for s in CLAIM_STUDIES],
+        identified=[
+            res(f"identified/{s}_{claims_interpretation()}.csv") for s in CLAIM_STUDIES
+        ],
         grid=grid_identified_file(),
     output:
         report(CLAIMS, caption="../report/claims.rst", category="Summary"),

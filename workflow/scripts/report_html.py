@@ -32,6 +32,17 @@ for name, spec in sorted((snakemake.params.measured or {}).items()):
     folder = f"measured/{name}/"
     paths = {Path(f).name: Path(f) for f in snakemake.input.outputs if folder in str(f)}
     modes = pd.read_csv(paths["modes.csv"])
+    if "setups" in spec:
+        extras.append(dict(
+            heading=f"Roving test '{name}': {len(spec['setups'])} setups merged, the modes on the structure",
+            png=paths["modes.png"], frame=modes.drop(columns="setups").round(4),
+            caption=(f"{len(spec['setups'])} setups ({spec['excitation'].replace('_', ' ')}) identified one by one "
+                     "and merged through their reference channels, as `modal identify SETUP ... --geometry` does: "
+                     "each mode drawn on the geometry (undeformed dashed, measured nodes red); the table gives "
+                     "frequency and damping (mean and spread over the setups that selected the mode), the setups "
+                     "that selected it or held it in their diagram, the smallest reference MAC and the MPC."),
+        ))
+        continue
     extras.append(dict(
         heading=f"Measured record '{name}': modes from the stabilisation diagram",
         png=paths["stabilisation.png"], frame=modes.round(4),

@@ -343,3 +343,16 @@ def test_two_close_modes_of_one_setup_stay_two():
     different = np.array([1.0, -1.0 + 0j])  # orthogonal reference part: not the same mode
     clusters = _match([(0, 0, 10.0, r), (1, 0, 10.01, different)], freq_rtol=0.01, mac_min=0.8)
     assert len(clusters) == 2
+
+
+def test_a_second_run_replaces_the_folder_of_setups(plate_test, tmp_path):
+    """Writing into an existing results folder replaces its setups/ folder
+    as a whole (a setup left out is gone), other files stay."""
+    setups, geometry, _ = plate_test
+    out = tmp_path / "out"
+    write_setups(setups[:3], out, "ambient", fmax=12)
+    (out / "notes.txt").write_text("mine")
+    write_setups(setups[:2], out, "ambient", fmax=12)
+    assert sorted(p.name for p in (out / "setups").iterdir()) == ["setup_1", "setup_2"]
+    assert (out / "notes.txt").read_text() == "mine"
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
