@@ -56,7 +56,7 @@ def test_small_thesis_config_runs_on_slurm(slurm, small_workflow, tmp_path):
     (tmp_path / "wf").mkdir()
     work = copy_project(tmp_path / "wf")
     profile = _profile(tmp_path / "profile")
-    run = run_snakemake(work, *TARGETS, "--workflow-profile", str(profile), "--configfile", SMALL_CONFIG_FILE,
+    run_snakemake(work, *TARGETS, "--workflow-profile", str(profile), "--configfile", SMALL_CONFIG_FILE,
                         timeout=900)
     assert len(_slurm_jobs(work)) >= 5
     differ = [t for t in TARGETS if (work / t).read_bytes() != (small_workflow / t).read_bytes()]
