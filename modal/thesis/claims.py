@@ -219,20 +219,13 @@ def _c_noise_free_summary(d):
             f"{_pct(tcm1.mean())}, ζ = .05: {_pct(tcm2.mean())}")
 
 
-def _sweep(d, method):
-    """Mean error by (noise level, mode) of the noise study (Figs. 9-11)."""
+def _sweep(d, method, column="error"):
+    """Mean ``column`` (the error, or the identified ``omega``) by (noise
+    level, mode) of the noise study (Figs. 9-11)."""
     frame = d["noise"]
     out = {}
     for case, g in frame[frame["method"] == method].groupby("case"):
-        out[float(g["noise"].iloc[0])] = mode_errors(_run(frame, case, method)).groupby("mode")["error"].mean()
-    return pd.DataFrame(out).T.sort_index()
-
-
-def _sweep_freq(d, method):
-    frame = d["noise"]
-    out = {}
-    for case, g in frame[frame["method"] == method].groupby("case"):
-        out[float(g["noise"].iloc[0])] = mode_errors(_run(frame, case, method)).groupby("mode")["omega"].mean()
+        out[float(g["noise"].iloc[0])] = mode_errors(_run(frame, case, method)).groupby("mode")[column].mean()
     return pd.DataFrame(out).T.sort_index()
 
 
@@ -248,7 +241,7 @@ def _c_converge(d):
 
 
 def _range(d, method, mode):
-    f = _sweep_freq(d, method)[mode]
+    f = _sweep(d, method, "omega")[mode]
     return float((f.max() - f.min()) / f.mean())
 
 
