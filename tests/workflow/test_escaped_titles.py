@@ -37,8 +37,8 @@ def test_notebook_verdicts_title_escaped(tmp_path, monkeypatch):
                                                                                                   index=False)
     shown = _shown(monkeypatch)
     display.Results(tmp_path, summary_file=summary).verdicts()
-    html = shown[0].data
-    assert "<img" not in html and "&lt;img" in html, html
+    html = shown[-1].data  # after the headline, the table
+    assert "<table" in html and "<img" not in html and "&lt;img" in html, html
 
 
 def test_report_title_escaped():
