@@ -20,19 +20,11 @@ def identify_one(path, options: dict):
     or ``ValueError``/``OSError`` saying why it cannot be read or
     identified."""
     from ..measured import identify_record
+    from ..measured._pipeline import channel_choice
     from ..records import read_record
 
     record = read_record(path, options.get("fs"))
-    n_channels = record.acc.shape[1]
-    channels = options.get("channels") or list(range(n_channels))
-    if max(channels) >= n_channels:
-        raise ValueError(f"channels {channels}: the record has channels 0 ... {n_channels - 1}")
-    refs = options.get("refs")
-    if refs is not None:
-        missing = [r for r in refs if r not in channels]
-        if missing:
-            raise ValueError(f"refs {missing} are not among the channels used {channels}")
-        refs = [channels.index(r) for r in refs]
+    channels, refs = channel_choice(record.acc.shape[1], options.get("channels"), options.get("refs"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # "no mode selected" and the like: the table says it
         result, _ = identify_record(record.acc[:, channels], record.dt, options["excitation"],

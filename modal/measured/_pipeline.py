@@ -394,15 +394,7 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     """
     from ._output import check_output, staged_folder
 
-    n_channels = record.acc.shape[1]
-    channels = list(range(n_channels)) if channels is None else [int(c) for c in channels]
-    if not channels or min(channels) < 0 or max(channels) >= n_channels:
-        raise ValueError(f"channels {channels}: the record has channels 0 ... {n_channels - 1}")
-    if refs is not None:
-        missing = [r for r in refs if r not in channels]
-        if missing:
-            raise ValueError(f"refs {missing} are not among the channels used {channels}")
-        refs = [channels.index(r) for r in refs]
+    channels, refs = channel_choice(record.acc.shape[1], channels, refs)
     if max_order % 2:
         raise ValueError(f"max_order must be even, got {max_order}")
     out = check_output(out, inputs=[record.path] if getattr(record, "path", None) else [])
@@ -414,6 +406,22 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
                                      quantities=quantities, channel_labels=channels)
         write_results(staging, result, dt, columns, fmax=fmax, title=title)
     return result, dt
+
+
+def channel_choice(n_channels, channels=None, refs=None) -> tuple[list[int], list[int] | None]:
+    """The record's channels used (default all) and the references as
+    positions among them, from ``refs`` given as the record's channel
+    numbers (one meaning everywhere); ``ValueError`` for a channel the
+    record lacks or a reference not among the channels used."""
+    channels = list(range(n_channels)) if channels is None else [int(c) for c in channels]
+    if not channels or min(channels) < 0 or max(channels) >= n_channels:
+        raise ValueError(f"channels {channels}: the record has channels 0 ... {n_channels - 1}")
+    if refs is not None:
+        missing = [r for r in refs if r not in channels]
+        if missing:
+            raise ValueError(f"refs {missing} are not among the channels used {channels}")
+        refs = [channels.index(r) for r in refs]
+    return channels, refs
 
 
 def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=None) -> None:
