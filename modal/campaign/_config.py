@@ -26,6 +26,7 @@ index, sorted by time.
 
 from __future__ import annotations
 
+import math
 import re
 from datetime import datetime
 from pathlib import Path
@@ -109,6 +110,10 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     errors = sorted(jsonschema.Draft202012Validator(SCHEMA).iter_errors(config), key=lambda e: list(e.path))
     if errors:
         _refuse(path, errors[0])
+    for section in ("identify", "tracking"):
+        for key, value in (config.get(section) or {}).items():
+            if isinstance(value, float) and not math.isfinite(value):
+                raise ValueError(f"{path}: {section}.{key}: {value} is not a finite number")
     base = path.parent
     config["tracking"] = {**TRACKING_DEFAULTS, **(config.get("tracking") or {})}
     config.setdefault("chunk", CHUNK)

@@ -98,6 +98,10 @@ def test_campaign_file_refusals(tmp_path, capsys):
             "give either index (a CSV of path,time) or glob with time_format")
     refused("records: {glob: '*.npy', time_format: '%Y'}\nidentify: {excitation: ambient, max_order: 7}\n",
             "identify.max_order")
+    refused("records: {index: i.csv}\nidentify: {excitation: ambient, fmax: .nan}\n",
+            "identify.fmax: nan is not a finite number")
+    refused("records: {index: i.csv}\nidentify: {excitation: ambient}\ntracking: {freq_rtol: .inf}\n",
+            "tracking.freq_rtol")
     (tmp_path / "i.csv").write_text("path,time\na.npy,noon\n")
     refused("records: {index: i.csv}\nidentify: {excitation: ambient}\n", "row 2: time 'noon' is not a date")
     assert not (tmp_path / "out").exists()
