@@ -34,6 +34,7 @@ modal.thesis.config.check_workflow_config(
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/beam.smk"
+include: "workflow/rules/search.smk"
 include: "workflow/rules/grid.smk"
 include: "workflow/rules/measured.smk"
 include: "workflow/rules/report.smk"

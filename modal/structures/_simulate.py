@@ -6,6 +6,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from scipy import integrate
 
 from .._checks import finite_array, nonnegative_float, positive_float, positive_int
 
@@ -168,9 +169,22 @@ def beam_impulse_response(beam, n_modes, impact_x, sensor_x, dt, n_samples, damp
     )
 
 
-def add_noise(y, noise_ratio, rng) -> np.ndarray:
+#: How the noise's standard deviation is scaled (the thesis, Sec. 6.1: "at one
+#: standard deviation, the noise added is 5% of the measurement"; which
+#: measure of "the measurement" it means is not stated).
+NOISE_SCALES = ("channel_rms", "record_rms", "channel_peak", "proportional")
+
+#: Where the noisy record's velocity and displacement come from: their own
+#: independent sensor noise ("noisy"), noise-free ("exact": only the
+#: accelerometers are noisy), or integrated from the noisy acceleration with
+#: the trapezoidal rule from their exact initial values ("integrated", as
+#: Sec. 6.4 says real applications may have to).
+VELOCITY_SOURCES = ("noisy", "exact", "integrated")
+
+
+def add_noise(y, noise_ratio, rng, scale: str = "channel_rms") -> np.ndarray:
     """Add Gaussian sensor noise with standard deviation ``noise_ratio`` times
-    each channel's RMS (the thesis's ``eta``; 5 % -> 0.05).
+    a measure of the signal (the thesis's ``eta``; 5 % -> 0.05).
 
     Parameters
     ----------
@@ -179,17 +193,46 @@ def add_noise(y, noise_ratio, rng) -> np.ndarray:
         ``eta >= 0`` as a fraction.
     rng : numpy.random.Generator or int
         Generator, or a seed for one.
+    scale : {"channel_rms", "record_rms", "channel_peak", "proportional"}
+        The measure: each channel's RMS (default), the RMS over all channels,
+        each channel's peak ``max |y|``, or the sample itself (``|y(t)|``:
+        noise proportional to the measurement at each instant).
     """
     y = finite_array("y", y, ndim=(2,))
     eta = nonnegative_float("noise_ratio", noise_ratio)
     rng = np.random.default_rng(rng)
-    rms = np.sqrt(np.mean(y**2, axis=0))
-    return y + eta * rms * rng.standard_normal(y.shape)
+    if scale == "channel_rms":
+        size = np.sqrt(np.mean(y**2, axis=0))
+    elif scale == "record_rms":
+        size = np.sqrt(np.mean(y**2))
+    elif scale == "channel_peak":
+        size = np.max(np.abs(y), axis=0)
+    elif scale == "proportional":
+        size = np.abs(y)
+    else:
+        raise ValueError(f"scale must be one of {', '.join(NOISE_SCALES)}, got {scale!r}")
+    return y + eta * size * rng.standard_normal(y.shape)
 
 
-def with_noise(record: Record, noise_ratio, seed) -> Record:
-    """The record with independent sensor noise on displacement, velocity and
-    acceleration, drawn in that order from ``numpy.random.default_rng(seed)``."""
+def with_noise(record: Record, noise_ratio, seed, scale: str = "channel_rms", velocity: str = "noisy") -> Record:
+    """The record with sensor noise (:func:`add_noise`).
+
+    Noise is drawn for displacement, velocity and acceleration, in that order,
+    from ``numpy.random.default_rng(seed)`` (so every ``velocity`` choice sees
+    the same acceleration noise). ``velocity`` says where the noisy record's
+    velocity and displacement come from: ``"noisy"`` (each with its own
+    noise), ``"exact"`` (noise-free) or ``"integrated"`` (trapezoidal
+    integrals of the noisy acceleration, then of that velocity, from the
+    exact initial values).
+    """
+    if velocity not in VELOCITY_SOURCES:
+        raise ValueError(f"velocity must be one of {', '.join(VELOCITY_SOURCES)}, got {velocity!r}")
     rng = np.random.default_rng(seed)
-    noisy = [add_noise(record.signal(d), noise_ratio, rng) for d in range(3)]
+    noisy = [add_noise(record.signal(d), noise_ratio, rng, scale) for d in range(3)]
+    if velocity == "exact":
+        noisy[:2] = record.displacement, record.velocity
+    elif velocity == "integrated":
+        vel = record.velocity[0] + integrate.cumulative_trapezoid(noisy[2], dx=record.dt, axis=0, initial=0)
+        disp = record.displacement[0] + integrate.cumulative_trapezoid(vel, dx=record.dt, axis=0, initial=0)
+        noisy[:2] = disp, vel
     return Record(record.t, *noisy, record.dt, record.omega, record.damping, record.shapes)

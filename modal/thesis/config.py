@@ -206,6 +206,9 @@ def check_workflow_config(config: dict, configfiles, schema) -> None:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
     validate(config, schema)
     check(config)
+    problems = search_problems(config, schema)
+    if problems:
+        raise ValueError("invalid config:\n  " + "\n  ".join(problems))
     if configfiles:
         check_run_name(config, configfiles[0])
 
@@ -315,16 +318,57 @@ def validate(config: Mapping, schema) -> None:
         One line per violation, e.g. ``studies.demo.cases.c3.noise = 5: 5 is
         greater than the maximum of 1 (a fraction: 5 % is 0.05)``.
     """
-    import jsonschema
-
     with open(schema, encoding="utf-8") as fh:
         document = yaml.safe_load(fh)
+    problems = schema_problems(config, document)
+    if problems:
+        raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+
+
+def schema_problems(config: Mapping, document: Mapping) -> list[str]:
+    """Every violation of the JSON schema ``document`` by ``config``, by dotted key."""
+    import jsonschema
+
     base = jsonschema.validators.validator_for(document)
     checker = base.TYPE_CHECKER.redefine("integer", _integer)
     validator = jsonschema.validators.extend(base, type_checker=checker)(document)
-    problems = sorted(_describe(err) for err in validator.iter_errors(_jsonable(config)))
-    if problems:
-        raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+    return sorted(_describe(err) for err in validator.iter_errors(_jsonable(config)))
+
+
+def search_problems(config: Mapping, schema) -> list[str]:
+    """Searches (config ``searches``, :mod:`modal.thesis.search`) that cannot
+    run: an unknown study, a table of another study, a key the study does not
+    have, or a setting whose study or beam the schema or :func:`study_problems`
+    refuses (e.g. a Hankel larger than a shortened record), named with its values."""
+    from .search import describe, search_settings
+
+    with open(schema, encoding="utf-8") as fh:
+        document = yaml.safe_load(fh)
+    parts = {"$defs": document["$defs"], "type": "object",
+             "properties": {k: document["properties"][k] for k in ("beams", "studies")}}
+    problems = []
+    for name, search in config.get("searches", {}).items():
+        key = f"searches.{name}"
+        if search["study"] not in config["studies"]:
+            problems.append(f"{key}.study = {search['study']!r} is not one of studies: {sorted(config['studies'])}")
+            continue
+        tables = {int(n): t for n, t in config["tables"].items()}
+        wrong = [n for n in search["tables"] if n not in tables or tables[n]["study"] != search["study"]]
+        if wrong:
+            problems.append(f"{key}.tables: {wrong} are not tables of studies.{search['study']}")
+            continue
+        try:
+            settings = search_settings(search, config["studies"], config["beams"], tables)
+        except ValueError as err:
+            problems.append(f"{key}.{err}")
+            continue
+        for setting, spec in settings.items():
+            where = f"{key}, setting {setting} ({describe(spec['values'])})"
+            found = schema_problems({"beams": {"beam": spec["beam"]},
+                                     "studies": {"study": {**spec["study"], "beam": "beam"}}}, parts)
+            found = found or study_problems("study", spec["study"], spec["beam"], "its beam")
+            problems += [f"{where}: {p}" for p in found]
+    return problems
 
 
 def _jsonable(node):
@@ -384,37 +428,7 @@ def check(config: Mapping) -> None:
         for interp in study["interpretations"]:
             if interp not in config["interpretations"]:
                 problems.append(f"{key}.interpretations: {interp!r} is not one of {sorted(config['interpretations'])}")
-        if not study_cases(study):
-            problems.append(f"{key} needs cases or noise_sweep")
-        beam = beams[study["beam"]]
-        n_samples, n_sensors = beam["n_samples"], len(beam["sensors"])
-        ns = study.get("n_identified") or []
-        for method, s in study["methods"].items():
-            mkey = f"{key}.methods.{method}"
-            n_modes = max(ns + [s.get("n_modes", n_sensors if method == "tcm" else 1)])
-            if method in ("tcm", "cera") and n_modes > n_sensors:
-                problems.append(f"{mkey}: n = {n_modes} modes exceeds the {n_sensors} sensors of beams.{study['beam']}")
-            if method in ("era", "cera"):
-                for req in ("n_modes", "cols") + (("rows",) if method == "era" else ()):
-                    if req not in s:
-                        problems.append(f"{mkey}.{req} is required")
-                if any(req not in s for req in ("n_modes", "cols")):
-                    continue
-                rows = s.get("rows", 1)
-                widths = [s["cols"]] + (study.get("cols_sweep", []) if method == "cera" else [])
-                for cols in widths:
-                    needed = s.get("start", 0) + rows + cols
-                    if needed > n_samples:
-                        problems.append(f"{mkey}: rows + cols = {rows + cols} (cols = {cols}) from start needs "
-                                        f"{needed} samples > n_samples = {n_samples} of beams.{study['beam']}")
-                if method == "era" and 2 * n_modes > min(rows * n_sensors, s["cols"]):
-                    problems.append(f"{mkey}: 2 n_modes = {2 * n_modes} exceeds the Hankel size "
-                                    f"{rows * n_sensors} x {s['cols']}")
-            lag, duration = s.get("lag", 0), s.get("duration")
-            if method == "tcm" and lag + n_sensors + 1 > n_samples:
-                problems.append(f"{mkey}.lag = {lag} leaves too few of the {n_samples} samples")
-            if duration is not None and duration <= 0:
-                problems.append(f"{mkey}.duration must be > 0")
+        problems += study_problems(key, study, beams[study["beam"]], f"beams.{study['beam']}")
     if "grid" in config:
         for number in config["tables"]:
             if int(number) in {int(n) for n in config["grid"]["tables"]}:
@@ -442,6 +456,44 @@ def check(config: Mapping) -> None:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
 
 
+def study_problems(key: str, study: Mapping, beam: Mapping, beam_name: str) -> list[str]:
+    """What makes one study impossible on its beam: no cases, more modes than
+    sensors for the TCM or CERA, Hankel matrices larger than the record, 2n
+    above the Hankel size for the ERA, a TCM lag leaving too few samples."""
+    problems = []
+    if not study_cases(study):
+        problems.append(f"{key} needs cases or noise_sweep")
+    n_samples, n_sensors = beam["n_samples"], len(beam["sensors"])
+    ns = study.get("n_identified") or []
+    for method, s in study["methods"].items():
+        mkey = f"{key}.methods.{method}"
+        n_modes = max(ns + [s.get("n_modes", n_sensors if method == "tcm" else 1)])
+        if method in ("tcm", "cera") and n_modes > n_sensors:
+            problems.append(f"{mkey}: n = {n_modes} modes exceeds the {n_sensors} sensors of {beam_name}")
+        if method in ("era", "cera"):
+            for req in ("n_modes", "cols") + (("rows",) if method == "era" else ()):
+                if req not in s:
+                    problems.append(f"{mkey}.{req} is required")
+            if any(req not in s for req in ("n_modes", "cols")):
+                continue
+            rows = s.get("rows", 1)
+            widths = [s["cols"]] + (study.get("cols_sweep", []) if method == "cera" else [])
+            for cols in widths:
+                needed = s.get("start", 0) + rows + cols
+                if needed > n_samples:
+                    problems.append(f"{mkey}: rows + cols = {rows + cols} (cols = {cols}) from start needs "
+                                    f"{needed} samples > n_samples = {n_samples} of {beam_name}")
+            if method == "era" and 2 * n_modes > min(rows * n_sensors, s["cols"]):
+                problems.append(f"{mkey}: 2 n_modes = {2 * n_modes} exceeds the Hankel size "
+                                f"{rows * n_sensors} x {s['cols']}")
+        lag, duration = s.get("lag", 0), s.get("duration")
+        if method == "tcm" and lag + n_sensors + 1 > n_samples:
+            problems.append(f"{mkey}.lag = {lag} leaves too few of the {n_samples} samples")
+        if duration is not None and duration <= 0:
+            problems.append(f"{mkey}.duration must be > 0")
+    return problems
+
+
 def _n_chunks(seeds: Mapping) -> int:
     """``len(seed_chunks(seeds))`` without building the list."""
     return -(-seeds["count"] // (seeds.get("chunk") or seeds["count"]))
@@ -457,9 +509,12 @@ def plan_problems(config: Mapping) -> list[str]:
         n_beam += len(study["interpretations"]) * (_n_chunks(config["seeds"]) if noisy else 1)
     grid = config.get("grid")
     n_grid = _n_chunks(grid["seeds"]) if grid and grid["source"] == "virtual" else (1 if grid else 0)
-    if n_beam + n_grid > MAX_IDENTIFY_JOBS:
-        return [f"seeds: the plan would hold {n_beam + n_grid} identification jobs ({n_beam} beam, {n_grid} grid), "
-                f"more than {MAX_IDENTIFY_JOBS}: raise seeds.chunk / grid.seeds.chunk or lower the counts"]
+    n_search = sum(math.prod(len(values) for values in search["vary"].values())
+                   for search in config.get("searches", {}).values())
+    if n_beam + n_grid + n_search > MAX_IDENTIFY_JOBS:
+        return [f"seeds: the plan would hold {n_beam + n_grid + n_search} identification jobs ({n_beam} beam, "
+                f"{n_grid} grid, {n_search} search settings), more than {MAX_IDENTIFY_JOBS}: raise seeds.chunk / "
+                "grid.seeds.chunk, lower the counts or search fewer settings"]
     return []
 
 

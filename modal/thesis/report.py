@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 
 from .tables import inclusion_holds, interpretation_summary, read_table
+from .search import table_searches
 
 
 def table_notes(number: int, table: pd.DataFrame) -> list[str]:
@@ -111,9 +112,12 @@ VERDICT_DEFINITIONS = [
     "findings it illustrates hold on the stand-in (each finding named, with its numbers); the noise test above is "
     "reported beside it.",
     f"'{VERDICT_CAUSE}': none of these, and the cause is named (a setting the thesis does not state that the table "
-    "depends on, from the config's `cause`, or a finding that fails on the stand-in).",
+    "depends on, from the config's `cause`, a setting a search of the unstated settings found to explain it, or a "
+    "finding that fails on the stand-in); the searches that covered it are named with what they found. A supposed "
+    "cause that a search of that very setting fails to confirm (no setting explains the table) is not a known one.",
     f"'{VERDICT_NOT}': none of these and no cause is known; the reason names how many values match, the largest "
-    "|relative deviation| and where it occurs, values we could not identify and published real poles we do not get.",
+    "|relative deviation| and where it occurs, values we could not identify and published real poles we do not get, "
+    "and the cause names the searches of unstated settings that failed to explain it.",
     "Identification rows only (TCM, ERA, CERA): the 'actual' and 'est' columns are references. The best "
     "interpretation is the one with the best verdict, then the fewest values not identified, then the smallest "
     "mean |relative deviation|. Every verdict comes with its reason.",
@@ -186,6 +190,39 @@ def noise_test(published, mean, std, n_seeds, k: int, alpha: float = NOISE_ALPHA
                              seeds_for_stable=np.where(ok, needed, np.nan)))
 
 
+def _log_likelihood(numeric: pd.DataFrame, test: pd.DataFrame) -> float:
+    """Log-likelihood of a noisy table's printed values under our seed
+    distribution: the sum of the Student's t prediction densities of
+    :func:`noise_test` (in the values' own units, so that settings compare);
+    NaN when a value has no spread or was not identified."""
+    from scipy import stats
+
+    n = numeric["n_seeds"].to_numpy(dtype=float)
+    scale = numeric["std"].to_numpy(dtype=float) * np.sqrt(1 + 1 / np.maximum(n, 1))
+    t = test["t"].to_numpy(dtype=float)
+    if not len(t) or not np.all(np.isfinite(t)):
+        return np.nan
+    return float(np.sum(stats.t.logpdf(t, n - 1) - np.log(scale)))
+
+
+def assess_table(frame: pd.DataFrame) -> dict[str, dict]:
+    """Each interpretation's assessment of one table's comparison (the
+    identified cells: published values and real-pole marks of TCM, ERA and
+    CERA rows): verdict rank 0-2 or 5 of :data:`VERDICTS`, counts, deviations,
+    the noise test and, for a noisy table, the log-likelihood of the printed
+    values (:func:`_log_likelihood`). Used by :func:`reproduction_summary`
+    and by the searches (:mod:`modal.thesis.search`)."""
+    if "interpretation" not in frame:
+        frame = frame.assign(interpretation="reproduced")
+    for col, default in (("flag", ""), ("seed0_real_pole", False), ("real_pole_frac", 0.0), ("column", "")):
+        if col not in frame:
+            frame = frame.assign(**{col: default})
+    frame = frame.assign(flag=_text(frame["flag"]), column=_text(frame["column"]))
+    cells = frame[(frame["flag"] == "real_pole") | frame["published"].notna()]
+    ident = cells[~cells["method"].isin(REFERENCE_METHODS)]
+    return {interp: _assess(g) for interp, g in ident.groupby("interpretation", sort=True)}
+
+
 def _assess(cells: pd.DataFrame) -> dict:
     """Verdict of one interpretation's identified cells of one table (ranks
     0-2 of :data:`VERDICTS`, or 5 when none of them applies)."""
@@ -199,6 +236,7 @@ def _assess(cells: pd.DataFrame) -> dict:
     test = noise_test(numeric["published"], numeric["reproduced"], numeric["std"], numeric["n_seeds"], n)
     test.index = numeric.index
     t_ok = test["passes"] & (numeric["n_seeds"] > 1)
+    log_likelihood = _log_likelihood(numeric, test) if noisy else np.nan
     star_ok = (star_match | (stars["real_pole_frac"].fillna(0) >= REAL_POLE_ALPHA / max(n, 1))
                if len(stars) else star_match)
     n_match = int(match.sum() + star_match.sum())
@@ -267,13 +305,14 @@ def _assess(cells: pd.DataFrame) -> dict:
     verdict = VERDICTS[rank]
     return dict(n_compared=n, noisy=noisy, n_match=n_match, n_consistent=n_consistent if noisy else np.nan,
                 n_missing=len(missing), mean_abs_dev=float(dev.mean()) if dev.notna().any() else np.nan,
-                max_abs_dev=largest, max_t=max_t, t_critical=critical, stable=stable,
+                max_abs_dev=largest, max_t=max_t, t_critical=critical, stable=stable, log_likelihood=log_likelihood,
                 worst=_where(worst) if worst is not None else "", verdict=verdict, rank=rank, why="; ".join(why))
 
 
 def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str] | None = None,
                          causes: dict[int, str] | None = None,
-                         stand_in: dict[int, list[dict]] | None = None) -> pd.DataFrame:
+                         stand_in: dict[int, list[dict]] | None = None,
+                         searches: pd.DataFrame | None = None) -> pd.DataFrame:
     """One row per thesis table: how well it is reproduced, and why.
 
     Parameters
@@ -298,6 +337,13 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
         :func:`modal.thesis.grid_study.grid_findings` returns them. Such a
         table is :data:`VERDICT_STAND_IN` when every finding holds, else
         :data:`VERDICT_CAUSE` naming the findings that fail.
+    searches : DataFrame, optional
+        ``results/tables/searches.csv`` (:func:`modal.thesis.search.search_summary`):
+        the cause of a table not reproduced then names each search of its
+        unstated settings and what it found. A table that a searched setting
+        explains is :data:`VERDICT_CAUSE`; one that the searches cover but
+        none of their settings explains is :data:`VERDICT_NOT`, its config
+        ``cause`` kept as the supposed one.
 
     Returns
     -------
@@ -319,16 +365,11 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
     rows = []
     for number in sorted(tables):
         frame = tables[number]
-        if "interpretation" not in frame:
-            frame = frame.assign(interpretation="reproduced")
-        for col, default in (("flag", ""), ("seed0_real_pole", False), ("real_pole_frac", 0.0), ("column", "")):
-            if col not in frame:
-                frame = frame.assign(**{col: default})
-        frame = frame.assign(flag=_text(frame["flag"]), column=_text(frame["column"]))
-        cells = frame[(frame["flag"] == "real_pole") | frame["published"].notna()]
-        ident = cells[~cells["method"].isin(REFERENCE_METHODS)]
-        n_published = len(cells.drop_duplicates(["mode", "method", "column"]))
-        assessed = {interp: _assess(g) for interp, g in ident.groupby("interpretation", sort=True)}
+        column = _text(frame["column"]) if "column" in frame else pd.Series("", index=frame.index)
+        flag = _text(frame["flag"]) if "flag" in frame else pd.Series("", index=frame.index)
+        published = frame.assign(column=column)[(flag == "real_pole") | frame["published"].notna()]
+        n_published = len(published.drop_duplicates(["mode", "method", "column"]))
+        assessed = assess_table(frame)
         title = titles.get(number, "")
         if not assessed:
             rows.append(dict(table=number, title=title, n_published=n_published, n_compared=0, interpretation="",
@@ -357,6 +398,16 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
             a["rank"], cause = 4, causes[number]
         elif a["rank"] == 5:
             cause = "unexplained"
+        searched = table_searches(searches, number) if a["rank"] >= 4 and number not in stand_in else ""
+        if searched:
+            explained = bool(searches.loc[searches["table"] == number, "explains"].map(_truthy).any())
+            if explained:
+                a["rank"] = 4
+                cause = "a setting the thesis does not state" if cause == "unexplained" else cause
+            elif cause != "unexplained":
+                # the supposed cause, searched without success, is not a known cause
+                a["rank"], cause = 5, f"unexplained (supposed: {cause})"
+            cause = f"{cause}; {searched}"
         a["verdict"] = VERDICTS[a["rank"]]
         by = "; ".join(f"{i}: {v['n_match']}/{v['n_compared']} match"
                        + (f", {v['n_consistent']}/{v['n_compared']} within noise" if v["noisy"] else "")

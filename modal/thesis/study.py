@@ -115,7 +115,11 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
     back the unsplit result. ``n_identified``
     (spillover, Sec. 6.3) repeats each method with n = 3, 4, ...: the TCM on
     the first n sensors, ERA and CERA with ``n_modes = n``. ``cols_sweep``
-    repeats the CERA over Hankel widths s.
+    repeats the CERA over Hankel widths s. ``noise_model`` (optional:
+    ``scale`` and ``velocity`` of :func:`modal.structures.with_noise`) says
+    how the noise is defined; by default noise of each channel's RMS on
+    every signal. With ``velocity: integrated`` the noise-free cases, too,
+    see velocities integrated from their accelerations.
 
     Returns
     -------
@@ -127,6 +131,8 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
         number of modes in the response.
     """
     frames = []
+    noise_model = dict(study.get("noise_model", {}))
+    integrated = noise_model.get("velocity") == "integrated"  # noise-free cases integrate too
     noisy_seeds = chunk_seeds(seeds, chunk)
     if chunk not in (None, 0) and all(c["noise"] == 0 for c in study_cases(study).values()):
         raise ValueError(f"chunk: a study without noise has only chunk 0, got {chunk}")
@@ -136,7 +142,8 @@ def run_study(study: Mapping, beam_spec: Mapping, interpretation: Mapping, seeds
         record = beam_record(beam_spec, params["damping"])
         seed_list = [-1] if params["noise"] == 0 else noisy_seeds
         for seed in seed_list:
-            noisy = record if seed < 0 else with_noise(record, params["noise"], seed)
+            noisy = (with_noise(record, params["noise"], max(seed, 0), **noise_model)
+                     if seed >= 0 or integrated else record)
             for method, settings in study["methods"].items():
                 for n, cols, kwargs, channels in _variants(study, method, settings, record.acceleration.shape[1]):
                     result = identify(noisy, method, kwargs, interpretation[method], channels)

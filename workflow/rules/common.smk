@@ -8,6 +8,7 @@ import yaml
 from pathlib import Path
 
 import modal.thesis.dependencies
+import modal.thesis.search
 from modal.thesis.chunks import seed_chunks, study_cases
 
 # --- the run: where results go ---------------------------------------------------
@@ -26,6 +27,8 @@ def res(path):
 
 wildcard_constraints:
     study=r"[^/]+",
+    search=r"[A-Za-z0-9][A-Za-z0-9_-]*",
+    setting=r"s\d{3}",
     interpretation=r"[^/_]+",
     chunk=r"\d+",
 
@@ -207,6 +210,24 @@ def beam_outputs():
         + figure_files(numbers(config["noise_figures"]))
         + cera_sensitivity_files()
     )
+
+
+# --- searches of unstated settings (search.smk) ------------------------------------
+SEARCHES = sorted(config.get("searches", {}))
+SEARCH_SUMMARY = res("tables/searches.csv")
+
+
+@functools.cache
+def search_settings(name):
+    """The settings of search ``name`` (modal.thesis.search.search_settings)."""
+    return modal.thesis.search.search_settings(
+        config["searches"][name], config["studies"], config["beams"], config["tables"]
+    )
+
+
+def search_summary_file():
+    """The searches' summary when the config has searches (the summary cites it)."""
+    return [SEARCH_SUMMARY] if SEARCHES else []
 
 
 def tables_of(*studies):

@@ -11,6 +11,7 @@ rule summary:
         # the grid tables are judged by the thesis's findings on the virtual grid
         grid=grid_identified_file(),
         published=config["published"],
+        searches=search_summary_file(),
     output:
         report(SUMMARY, caption="../report/summary.rst", category="Summary"),
     log:

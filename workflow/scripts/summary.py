@@ -19,5 +19,7 @@ if snakemake.input.get("grid"):
     identified = modal.thesis.intermediates.read_grid_identified(snakemake.input.grid[0], spec)
     published = modal.thesis.tables.read_published(snakemake.input.published)
     stand_in = modal.thesis.grid_study.stand_in_findings(identified, published, spec)
-summary = modal.thesis.report.reproduction_summary(tables, snakemake.params.titles, snakemake.params.causes, stand_in)
+searches = modal.thesis.tables.read_table(snakemake.input.searches[0]) if snakemake.input.searches else None
+summary = modal.thesis.report.reproduction_summary(tables, snakemake.params.titles, snakemake.params.causes, stand_in,
+                                                   searches)
 modal.thesis.tables.write_csv(summary, snakemake.output[0])
