@@ -367,7 +367,8 @@ def search_problems(config: Mapping, schema) -> list[str]:
             found = schema_problems({"beams": {"beam": spec["beam"]},
                                      "studies": {"study": {**spec["study"], "beam": "beam"}}}, parts)
             found = found or study_problems("study", spec["study"], spec["beam"], "its beam")
-            problems += [f"{where}: {p}" for p in found]
+            problems += [f"{where}: {p.replace('studies.study.', '').replace('beams.', '').removeprefix('study.')}"
+                         for p in found]
     return problems
 
 

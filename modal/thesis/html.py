@@ -103,6 +103,19 @@ def claims_html(claims: pd.DataFrame) -> str:
     return shown.to_html(index=False, border=0, classes="claims", na_rep="")
 
 
+def searches_html(searches: pd.DataFrame) -> str:
+    """``searches.csv`` (:func:`modal.thesis.search.search_summary`) as an HTML table."""
+    shown = searches[["search", "question", "table", "n_settings", "default", "default_verdict", "default_fit",
+                      "best", "best_interpretation", "best_verdict", "best_fit", "explains"]]
+    shown = shown.assign(explains=shown["explains"].map({True: "yes", False: "no"}).fillna(shown["explains"]))
+    shown = shown.rename(columns={
+        "search": "Search", "question": "Question", "table": "Table", "n_settings": "Settings",
+        "default": "Config's setting", "default_verdict": "Its verdict", "default_fit": "Its fit",
+        "best": "Best setting", "best_interpretation": "Signals", "best_verdict": "Best verdict",
+        "best_fit": "Best fit", "explains": "Explains"})
+    return shown.to_html(index=False, border=0, classes="searches", na_rep="")
+
+
 def summary_frame(summary: pd.DataFrame) -> pd.DataFrame:
     """``summary.csv`` as a reader sees it: counts as integers, the largest
     deviation in percent (three significant digits), headings in words."""
@@ -149,7 +162,8 @@ def png_data_uri(path) -> str:
 
 def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[str],
                   tables: Mapping[int, dict], figures: Mapping[int, dict], extras: Sequence[dict],
-                  provenance: Mapping[str, str], claims: pd.DataFrame | None = None) -> str:
+                  provenance: Mapping[str, str], claims: pd.DataFrame | None = None,
+                  searches: pd.DataFrame | None = None) -> str:
     """The self-contained report page.
 
     Parameters
@@ -174,6 +188,9 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
     claims : DataFrame, optional
         ``results/tables/claims.csv``: the thesis's findings as checks, shown
         in their own section with their count.
+    searches : DataFrame, optional
+        ``results/tables/searches.csv``: the searches of unstated settings,
+        shown in their own section.
     """
     from .claims import claims_headline
     from .report import headline
@@ -189,6 +206,7 @@ def render_report(template: Path, summary: pd.DataFrame, definitions: Sequence[s
         headline=headline(summary),
         claims=markup(claims_html(claims)) if claims is not None else None,
         claims_headline=claims_headline(claims) if claims is not None else "",
+        searches=markup(searches_html(searches)) if searches is not None and len(searches) else None,
         definitions=definitions,
         tables=[dict(number=n, title=t["title"], notes=t.get("notes", []),
                      html=markup(layout_html(t["frame"])) if t["frame"] is not None else None)

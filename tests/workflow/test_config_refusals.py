@@ -288,3 +288,33 @@ def test_roving_test_refusals(change, fragment, monkeypatch):
     if change.get("geometry", "") is None:
         del config["measured"]["roving_plate"]["geometry"]
     assert fragment in refusal(config, monkeypatch)
+
+
+# --- 11. searches of unstated settings: every setting must be a study that can run -----------
+@pytest.mark.parametrize("change, fragment", [
+    ({"study": "nosuch"}, "searches.probe.study = 'nosuch' is not one of studies"),
+    ({"tables": [3, 7]}, "searches.probe.tables: [7] are not tables of studies.demo"),
+    ({"vary": {"methods.cera.cols": [100]}}, "searches.probe.vary: 'methods.cera.cols' is not a setting"),
+    ({"vary": {"beam.n_samples": [3594, 100]}},
+     "searches.probe, setting s001 (beam.n_samples = 100): methods.era: rows + cols = 124"),
+    ({"vary": {"beam.n_samples": ["long"]}}, "searches.probe, setting s000 (beam.n_samples = long): beam.n_samples"),
+    ({"vary": {"noise_model.scale": ["peak"]}},
+     "searches.probe, setting s000 (noise_model.scale = peak): noise_model.scale = 'peak': 'peak' is not one of"),
+    ({"vary": {"methods.era.rows": []}}, "searches.probe.vary.methods.era.rows"),
+    ({"vary": {"beam.samples_per_period": [float("nan")]}},
+     "searches.probe.vary.beam.samples_per_period.0 = nan: not a finite number"),
+])
+def test_impossible_search_refused(change, fragment, monkeypatch):
+    config = base_config()
+    config["searches"] = {"probe": {"question": "q", "study": "demo", "tables": [3],
+                                    "vary": {"methods.era.rows": [24]}, **change}}
+    message = refusal(config, monkeypatch)
+    assert fragment in message, message
+
+
+def test_search_settings_count_in_the_plan(monkeypatch):
+    config = base_config()
+    config["searches"] = {f"probe{k}": {"question": "q", "study": "demo", "tables": [3],
+                                        "vary": {"methods.era.cols": list(range(100, 500))}} for k in range(30)}
+    message = refusal(config, monkeypatch)
+    assert "12000 search settings" in message, message

@@ -89,6 +89,7 @@ rule report_html:
         captions=CAPTIONS,
         summary=SUMMARY,
         claims=CLAIMS,
+        searches=search_summary_file(),
         outputs=report_inputs(),
         default_config="config/config.yaml",
     output:

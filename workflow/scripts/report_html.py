@@ -56,6 +56,7 @@ provenance = modal.thesis.html.provenance(Path.cwd(), default, snakemake.params.
                                              snakemake.params.configfiles)
 provenance["run"] = snakemake.params.run
 claims = pd.read_csv(snakemake.input.claims)
+searches = pd.read_csv(snakemake.input.searches[0]) if snakemake.input.searches else None
 html = modal.thesis.html.render_report(template, summary, modal.thesis.report.VERDICT_DEFINITIONS, tables, figures,
-                                       extras, provenance, claims)
+                                       extras, provenance, claims, searches)
 Path(snakemake.output[0]).write_text(html, encoding="utf-8")
