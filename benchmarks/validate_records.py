@@ -8,7 +8,8 @@ ones:
 - Weimar steel frame, setup 1, channels 0-4, references 3 and 4 (ambient):
   the eight reference modes below 10 Hz (pyOMA PoGER, SOURCE.md), within 0.5 %;
 - Palisaden CLT building, full 90-min record (ambient): 1.88, 2.42, 2.68 Hz
-  (pyOMA2 documentation) within 0.5 %;
+  (pyOMA2 documentation) within 0.5 %, and four modes in all (the weak one
+  near 3.6 Hz once, not split in two: issue 21);
 - USC steel cantilever (impact, free decay, LabVIEW .lvm): the modes below
   150 Hz against the peaks of its amplitude spectrum after the impact (no
   published modal results), within 0.5 %.
@@ -85,6 +86,8 @@ def main() -> int:
     result, _ = modal.identify_record(record.acc, record.dt, "ambient", max_order=60, fmax=5, highpass_hz=0.5)
     timings["palisaden"] = time.perf_counter() - start
     tables.append(compare("Palisaden, 90 min", result.modes, PALISADEN_REFERENCE))
+    palisaden = result.modes["freq_hz"].round(4).tolist()
+    palisaden_candidates = result.candidates["freq_hz"].round(4).tolist()
 
     record = modal.read_record(DATA / "usc_cantilever" / "timeseries_data.lvm")
     start = time.perf_counter()
@@ -99,11 +102,12 @@ def main() -> int:
     frame = pd.concat(tables, ignore_index=True)
     print(frame.to_markdown(index=False))
     print(f"\nmodes selected beyond the references: Weimar {extra_weimar}, cantilever {extra_cantilever}")
+    print(f"Palisaden, 90 min: modes {palisaden}, candidates {palisaden_candidates}")
     print("seconds per record (identification only): " + ", ".join(f"{k} {v:.2f}" for k, v in timings.items()))
     missed = frame[~(frame["rel_dev_pct"].abs() <= 100 * TOLERANCE)]
     if len(missed):
         print(f"\nMISSED (beyond {100 * TOLERANCE} %):\n{missed.to_markdown(index=False)}")
-    return int(len(missed) > 0 or extra_cantilever != 0)
+    return int(len(missed) > 0 or extra_cantilever != 0 or len(palisaden) != 4)
 
 
 if __name__ == "__main__":

@@ -61,9 +61,13 @@ class StabilityCriteria:
         MPC well below 1) through: their complexity is measured (``mpc``,
         ``mpd``) and reported, not held against them.
     cluster_distance : float
-        Poles join one mode when the distance ``|f_i - f_j| / max(f_i, f_j) +
-        1 - MAC_ij`` between the groups (average linkage) is below this; two
-        poles of the same order never join one mode.
+        Poles join one mode when the distance ``|lambda_i - lambda_j| /
+        max(|lambda_i|, |lambda_j|) + 1 - MAC_ij`` between the groups (average
+        linkage) is below this, ``lambda`` the continuous-time poles
+        (Reynders, Houbrechts and De Roeck 2012): the first term is about
+        ``sqrt((df / f)^2 + (d zeta)^2)``, so poles of one frequency but
+        damping ratios 2 % apart are 0.02 apart. Two poles of the same order
+        never join one mode.
     merge_distance : float
         Clusters that never share an order (one mode split in two) join when
         their average distance is below this.
@@ -464,8 +468,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
 def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int):
     """Cluster the stable physical poles by frequency and shape into modes.
 
-    Average linkage (scipy.cluster) on ``|f_i - f_j| / max(f_i, f_j) + 1 -
-    MAC_ij``, cut at ``criteria.cluster_distance``, with two poles of the same
+    Average linkage (scipy.cluster) on ``|lambda_i - lambda_j| /
+    max(|lambda_i|, |lambda_j|) + 1 - MAC_ij`` (``lambda`` the
+    continuous-time poles, ``|lambda| = 2 pi f``: frequency and damping
+    together), cut at ``criteria.cluster_distance``, with two poles of the same
     order kept apart (their distance is raised above what any average can
     absorb): two close modes present at the same orders stay two. Clusters
     that never share an order and lie within ``criteria.merge_distance`` of
@@ -487,7 +493,10 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
         return nothing
     f, order = poles["freq_hz"][chosen], poles["order"][chosen]
     shapes = pole_shapes[chosen].T
-    distance = np.abs(f[:, None] - f[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
+    # the continuous-time poles over their natural frequency: unit complex numbers fixed by the damping ratio
+    unit_pole = -poles["damping"][chosen] + 1j * np.sqrt(1 - poles["damping"][chosen] ** 2)
+    gap = np.abs(f[:, None] * unit_pole[:, None] - f[None, :] * unit_pole[None, :]) / np.maximum(f[:, None], f[None, :])
+    distance = gap + 1 - mac(shapes, shapes)
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     apart = (order[:, None] == order[None, :]) & ~np.eye(len(chosen), dtype=bool)

@@ -147,12 +147,14 @@ def test_stability_of_a_single_pole():
         np.testing.assert_array_equal(flags[key], [False])
 
 
-def _pole_table(freqs, shapes, stable=None):
-    """Hand-made poles, one per order (so the same-order rule never acts)."""
+def _pole_table(freqs, shapes, stable=None, damping=None):
+    """Hand-made poles, one per order (so the same-order rule never acts),
+    damped 1-2 % at random unless ``damping`` is given."""
     n = len(freqs)
     rng = np.random.default_rng(5)
+    damping = 0.01 + 0.01 * rng.random(n) if damping is None else np.broadcast_to(float(damping), n)
     return ({"order": 2 * np.arange(1, n + 1), "freq_hz": np.asarray(freqs, float),
-             "damping": 0.01 + 0.01 * rng.random(n), "mpc": rng.random(n), "mamc": rng.random(n),
+             "damping": damping, "mpc": rng.random(n), "mamc": rng.random(n),
              "mpd": rng.random(n), "stable": np.ones(n, bool) if stable is None else np.asarray(stable, bool),
              "physical": np.ones(n, bool)},
             np.asarray(shapes, float))
@@ -398,15 +400,45 @@ def test_mean_spectrum_of_a_spectral_null_is_zero_not_nan():
 
 
 def test_select_modes_joins_groups_by_average_linkage():
-    """Three poles of one shape at 1.00, 1.01 and 1.02 Hz (distances 0.0099,
-    0.0098 and 0.0196), cluster distance 0.012: 1.01 and 1.02 Hz join; 1.00
-    Hz is 0.0147 from them on average, so it stays out (single linkage, or a
-    distance matrix shrunk by 2/3, would join all three)."""
+    """Three poles of one shape and damping at 1.00, 1.01 and 1.02 Hz
+    (distances 0.0099, 0.0098 and 0.0196), cluster distance 0.012: 1.01 and
+    1.02 Hz join; 1.00 Hz is 0.0147 from them on average, so it stays out
+    (single linkage, or a distance matrix shrunk by 2/3, would join all
+    three)."""
 
-    poles, pole_shapes = _pole_table([1.0, 1.01, 1.02], [[1.0, 2.0]] * 3)
+    poles, pole_shapes = _pole_table([1.0, 1.01, 1.02], [[1.0, 2.0]] * 3, damping=0.02)
     labels, modes, _ = select(poles, pole_shapes, cluster_distance=0.012, min_poles=2)
     np.testing.assert_array_equal(labels, [0, 1, 1])
     assert modes["n_poles"].tolist() == [2] and modes["freq_hz"].iloc[0] == pytest.approx(1.015, rel=1e-12)
+
+
+def test_select_modes_weighs_damping_with_frequency():
+    """The pattern of Palisaden's 90 minutes at 3.6 Hz (issue 21), one shape
+    throughout: orders 10-22 hold one pole, 3.618 Hz damped 2.7 %; from order
+    26 two: 3.605 Hz at 0.9 % (orders 26-44) and 3.680 Hz at 2.4 % (26-60).
+    By frequency alone the low-order poles are 0.004 from the 0.9 % ones and
+    0.017 from the 2.4 % ones, and join the former: two modes. As poles
+    (frequency and damping), the distances are 0.0183 and 0.0171: they join
+    the 2.4 % ones, one mode of 25 poles; the 0.9 % poles, 10 of the 12
+    needed, are a candidate. Equal damping leaves the distance by frequency."""
+    low, late, high = np.arange(10, 23, 2), np.arange(26, 45, 2), np.arange(26, 61, 2)
+    poles, pole_shapes = _pole_table(np.repeat([3.618, 3.605, 3.680], [len(low), len(late), len(high)]),
+                                     [[1.0, 0.6, -0.3]] * (len(low) + len(late) + len(high)))
+    poles["order"] = np.concatenate([low, late, high])
+    poles["damping"] = np.repeat([0.027, 0.009, 0.024], [len(low), len(late), len(high)])
+    labels, modes, _, candidates = _select_modes(poles, pole_shapes.astype(complex), modal.StabilityCriteria(), 12)
+    np.testing.assert_array_equal(labels, np.repeat([1, 0, 1], [len(low), len(late), len(high)]))
+    assert modes["n_poles"].tolist() == [25]
+    assert modes["freq_hz"].iloc[0] == pytest.approx((7 * 3.618 + 18 * 3.680) / 25, rel=1e-12)
+    assert candidates["n_poles"].tolist() == [10] and candidates["freq_hz"].iloc[0] == pytest.approx(3.605)
+    # distances of one pole pair as poles: sqrt((df / f)^2 + (d zeta)^2) to first order
+    pair, shape = _pole_table([3.618, 3.605], [[1.0, 0.6, -0.3]] * 2)
+    for zeta, apart in ((0.027, 0.0036), (0.009, 0.0183)):
+        pair["damping"] = np.array([0.027, zeta])
+        cut = modal.StabilityCriteria(cluster_distance=apart + 2e-4, merge_distance=1e-6)
+        assert _select_modes(pair, shape.astype(complex), cut, 2)[1]["n_poles"].tolist() == [2]
+        cut = modal.StabilityCriteria(cluster_distance=apart - 2e-4, merge_distance=1e-6)
+        assert len(_select_modes(pair, shape.astype(complex), cut, 2)[1]) == 0
 
 
 def test_select_modes_numbers_modes_by_mean_frequency():
