@@ -93,24 +93,25 @@ def mean_phase_deviation(shapes) -> np.ndarray:
     straight line in the complex plane (Reynders, Houbrechts and De Roeck
     2012): 0 for a normal mode, growing with its complexity.
 
-    The line is the leading right singular vector ``(v12, v22)`` of the
-    ``n_channels x 2`` matrix ``[Re phi, Im phi]``; each entry's deviation
+    The line is the leading right singular vector of the ``n_channels x 2``
+    matrix ``[Re phi, Im phi]``, ``(v12, v22)`` its normal (the other
+    singular vector); each entry's deviation
     ``arccos(|Re phi_c v22 - Im phi_c v12| / (|phi_c| sqrt(v12^2 + v22^2)))``
     is averaged with weights ``|phi_c|``.
     """
     shapes = np.atleast_2d(np.asarray(shapes, dtype=complex))
-    out = np.zeros(shapes.shape[1])
-    for k in range(shapes.shape[1]):
-        phi = shapes[:, k]
-        weights = np.abs(phi)
-        if not np.any(weights > 0):
-            continue
-        _, _, vt = np.linalg.svd(np.column_stack([phi.real, phi.imag]))  # vt is 2 x 2, also for one channel
-        v12, v22 = vt[1, 0], vt[1, 1]  # the normal to the best line, as (re, im)
-        along = np.abs(phi.real * v22 - phi.imag * v12) / np.hypot(v12, v22)
-        cosines = np.clip(along / np.where(weights > 0, weights, 1), 0, 1)
-        out[k] = np.degrees(np.sum(weights * np.arccos(cosines)) / np.sum(weights))
-    return out
+    # every mode at once: the right singular vectors of [Re phi, Im phi] are the eigenvectors of its 2 x 2
+    # Gram matrix; the one of the smaller eigenvalue (eigh: the first) is the normal to the best line, as (re, im)
+    parts = np.stack([shapes.real.T, shapes.imag.T], axis=-1)  # (n_modes, n_channels, 2)
+    _, vectors = np.linalg.eigh(np.swapaxes(parts, 1, 2) @ parts)
+    v12, v22 = vectors[:, 0, 0, None], vectors[:, 1, 0, None]
+    weights = np.abs(shapes.T)  # (n_modes, n_channels)
+    along = np.abs(shapes.real.T * v22 - shapes.imag.T * v12) / np.hypot(v12, v22)
+    cosines = np.clip(np.divide(along, weights, out=np.ones_like(along), where=weights > 0), 0, 1)
+    total = weights.sum(axis=1)
+    deviation = np.divide(np.sum(weights * np.arccos(cosines), axis=1), total, out=np.zeros_like(total),
+                          where=total > 0)
+    return np.degrees(deviation)
 
 
 def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:

@@ -432,6 +432,8 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     -------
     freq_std_hz, damping_std : ndarray, shape (n_modes,)
     """
+    from scipy.linalg import solve_triangular
+
     segments = [records("segments", s) for s in segments]
     k_seg = len(segments)
     n_modes = len(modes)
@@ -449,9 +451,15 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     freq, damping = np.full((k_seg, n_modes), np.nan), np.full((k_seg, n_modes), np.nan)
     for k, segment in enumerate(segments):
         h = hankel(segment, rows + 1, cols, start)
-        g0, g1 = u.T @ h[:-l], u.T @ h[l:]
+        # g0^T = Q R, so g0[:n]^+ = Q[:, :n] R[:n, :n]^-T for every n, and A_k^T = R[:n, :n]^-1 (g1 Q)[:n, :n]^T
+        q, r = np.linalg.qr((u.T @ h[:-l]).T)
+        w = (u.T @ h[l:]) @ q
         for j, (n, s0) in enumerate(seeds):
-            z = np.linalg.eigvals(g1[:n] @ np.linalg.pinv(g0[:n]))
+            try:
+                a_t = solve_triangular(r[:n, :n], w[:n, :n].T)
+            except np.linalg.LinAlgError:  # the segment's H_k(0) has lost rank in that basis: no eigenvalue
+                continue
+            z = np.linalg.eigvals(a_t)
             with np.errstate(divide="ignore", invalid="ignore"):
                 s = np.log(z.astype(complex)) / dt
             s = s[np.isfinite(s)]

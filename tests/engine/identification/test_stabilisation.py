@@ -431,13 +431,16 @@ def test_select_modes_weighs_damping_with_frequency():
     assert modes["n_poles"].tolist() == [25]
     assert modes["freq_hz"].iloc[0] == pytest.approx((7 * 3.618 + 18 * 3.680) / 25, rel=1e-12)
     assert candidates["n_poles"].tolist() == [10] and candidates["freq_hz"].iloc[0] == pytest.approx(3.605)
-    # distances of one pole pair as poles: sqrt((df / f)^2 + (d zeta)^2) to first order
-    pair, shape = _pole_table([3.618, 3.605], [[1.0, 0.6, -0.3]] * 2)
-    for zeta, apart in ((0.027, 0.0036), (0.009, 0.0183)):
-        pair["damping"] = np.array([0.027, zeta])
-        cut = modal.StabilityCriteria(cluster_distance=apart + 2e-4, merge_distance=1e-6)
+    # one pole pair: |lambda_1 - lambda_2| / max |lambda|, about sqrt((df / f)^2 + (d zeta)^2); |lambda| = 2 pi f
+    # whatever the damping (at 25 %, 1 % apart in frequency is 0.0099 apart, not 0.0102 or 0.0100)
+    for freqs, damping, apart in (([3.618, 3.605], [0.027, 0.027], 0.0035931),
+                                  ([3.618, 3.605], [0.027, 0.009], 0.0183262),
+                                  ([2.0, 2.02], [0.25, 0.25], 0.0099010)):
+        pair, shape = _pole_table(freqs, [[1.0, 0.6, -0.3]] * 2)
+        pair["damping"] = np.array(damping)
+        cut = modal.StabilityCriteria(cluster_distance=apart + 3e-5, merge_distance=1e-6)
         assert _select_modes(pair, shape.astype(complex), cut, 2)[1]["n_poles"].tolist() == [2]
-        cut = modal.StabilityCriteria(cluster_distance=apart - 2e-4, merge_distance=1e-6)
+        cut = modal.StabilityCriteria(cluster_distance=apart - 3e-5, merge_distance=1e-6)
         assert len(_select_modes(pair, shape.astype(complex), cut, 2)[1]) == 0
 
 
