@@ -495,10 +495,9 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
 
     l = pole_shapes.shape[1]
     labels = np.zeros(len(poles["order"]), dtype=int)
-    nothing = labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), _empty(CANDIDATE_COLUMNS)
     chosen = np.flatnonzero(poles["stable"] & poles["physical"])
     if len(chosen) < 2:
-        return nothing
+        return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), _empty(CANDIDATE_COLUMNS)
     f, order = poles["freq_hz"][chosen], poles["order"][chosen]
     shapes = pole_shapes[chosen].T
     # the continuous-time poles over their natural frequency: unit complex numbers fixed by the damping ratio

@@ -102,26 +102,31 @@ def test_lowest_peak_of_short_and_silent_records():
 # --- decimate: the stages, channel by channel ---
 
 
-def test_decimate_stages_channel_by_channel(monkeypatch):
+@pytest.mark.parametrize("block, widths", [(2**22, [2]), (5003, [1, 1]), (2 * 5003 - 1, [1, 1]), (2 * 5003, [2])])
+def test_decimate_stages_channels_in_blocks(monkeypatch, block, widths):
     """Factors above 13 in stages, the largest divisor <= 13 first, a prime
-    factor above 13 one stage; each channel is filtered on its own through
-    all the stages."""
+    factor above 13 one stage; the channels are filtered in blocks of at most
+    DECIMATE_BLOCK values (samples x channels), each block through all the
+    stages, and every channel exactly as scipy filters it alone."""
     import scipy.signal
+
+    import modal.signals._filters as filters
 
     calls, scipy_decimate = [], scipy.signal.decimate
 
     def spy(x, q, **kwargs):
-        calls.append((x.ndim, q))
+        calls.append((x.shape[1], q))
         return scipy_decimate(x, q, **kwargs)
 
     monkeypatch.setattr(scipy.signal, "decimate", spy)
+    monkeypatch.setattr(filters, "DECIMATE_BLOCK", block)
     y = np.random.default_rng(5).standard_normal((5003, 2))
     expected = {1: [], 2: [2], 4: [4], 12: [12], 14: [7, 2], 17: [17], 26: [13, 2], 30: [10, 3], 34: [2, 17],
                 169: [13, 13]}
     for factor, stages in expected.items():
         calls.clear()
         out, dt = modal.decimate(y, 0.002, factor)
-        assert calls == [(1, q) for q in stages] * 2, factor
+        assert calls == [(w, q) for w in widths for q in stages], factor
         assert out.shape == (-(-5003 // factor), 2) and dt == pytest.approx(0.002 * factor, rel=1e-15)
         for c in range(2):
             x = y[:, c]
