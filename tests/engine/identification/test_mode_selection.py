@@ -292,3 +292,16 @@ def test_short_window_counts_the_whole_hankel_span(cols, short):
         warnings.simplefilter("ignore", modal.ModalWarning)
         result = modal.era(y, dt, 1, rows=100, cols=cols)
     assert result.short_window.tolist() == [short]
+
+
+def test_modes_table_has_the_documented_columns():
+    """The modes table's columns, in the documented order (docs: records,
+    modes.csv); a free decay has no segments, so no standard deviation of
+    the estimate (NaN), only the spread over the orders."""
+    shapes = np.array([[1.0, 0.9], [0.7, -0.6], [0.4, -1.0]])
+    dt = 1 / 100
+    modes = modal.stabilisation(free_decays([2.0, 6.5], [0.02, 0.02], shapes, dt, 1500, noise=1e-4), dt, 30, 40).modes
+    assert list(modes.columns) == ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std",
+                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
+    assert len(modes) == 2 and modes[["freq_std_hz", "damping_std"]].isna().all().all()
+    assert (modes["freq_spread_hz"] > 0).all() and (modes["damping_spread"] > 0).all()
