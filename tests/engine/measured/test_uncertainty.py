@@ -54,10 +54,10 @@ def test_segments_that_agree_give_no_uncertainty():
     assert modal.stabilisation(r, 0.05, 20, 60).modes["freq_std_hz"].isna().all()  # no segments: not known
 
 
-def _free_decay(stiffness_factor, dt=0.02, n=800):
+def _free_decay(stiffness_factor, dt=0.02, n=800, damping_factor=1.0):
     omega, modes = shear_frame_modes(stiffness_factor)
     t = np.arange(n) * dt
-    zeta = np.array(DAMPING)
+    zeta = damping_factor * np.array(DAMPING)
     waves = np.exp(-np.outer(t, zeta * omega)) * np.cos(np.outer(t, omega * np.sqrt(1 - zeta**2)))
     return waves @ modes.T, omega / (2 * np.pi)
 
@@ -76,3 +76,24 @@ def test_two_segments_a_percent_apart():
     expected = 0.01 * f[:len(result.modes)] / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
     np.testing.assert_allclose(result.modes["freq_hz"], f[:len(result.modes)], rtol=1e-3)  # mean over orders
     np.testing.assert_allclose(result.modes["freq_std_hz"], expected, rtol=0.02)
+
+
+def test_two_segments_damped_ten_percent_apart():
+    """Two noise-free segments of one stiffness, the second damped 10 %
+    more: each mode's damping std is ``0.1 zeta / sqrt(2) * t_1(0.975) /
+    1.96 / sqrt(2)`` (ddof 1), its frequency std (the undamped natural
+    frequency, the same in both) next to zero (measured 4e-6 of it); one
+    segment gives no std at all."""
+    from scipy.stats import t
+
+    a, f = _free_decay(1.0)
+    b, _ = _free_decay(1.0, damping_factor=1.1)
+    criteria = modal.StabilityCriteria(min_poles=2)
+    result = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a, b])
+    n = len(result.modes)
+    assert n >= 1
+    expected = 0.1 * np.array(DAMPING[:n]) / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    np.testing.assert_allclose(result.modes["damping_std"], expected, rtol=0.02)
+    assert np.all(result.modes["freq_std_hz"] <= 1e-4 * f[:n]), result.modes["freq_std_hz"] / f[:n]  # 4e-6
+    alone = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a]).modes
+    assert len(alone) == n and alone[["freq_std_hz", "damping_std"]].isna().all().all()
