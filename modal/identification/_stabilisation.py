@@ -425,8 +425,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     (Eq. 44, in ``s = ln z / dt``) gives the segment's frequency and
     damping. The segments' estimates scatter with the record's noise; the
     standard deviation of their mean, ``std_k / sqrt(K)``, is that of the
-    estimate from the whole record. NaN where a segment has no eigenvalue
-    (``K < 2``).
+    estimate from the whole record, widened by Student's ``t_{K-1}(0.975) /
+    1.96``. ``K`` counts, per mode, the segments that gave an estimate (a
+    segment whose ``U^T H_k(0)`` has lost rank, e.g. a sensor gap of zeros,
+    gives none); NaN where fewer than two did.
 
     Returns
     -------
@@ -469,8 +471,14 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
                 damping[k, j] = -near.real / abs(near)
     from scipy.stats import norm, t
 
-    scale = t.ppf(0.975, k_seg - 1) / norm.ppf(0.975) / np.sqrt(k_seg)
-    return np.nanstd(freq, axis=0, ddof=1) * scale, np.nanstd(damping, axis=0, ddof=1) * scale
+    # K per mode: the segments that gave an estimate (one whose H_k(0) lost rank gives none)
+    k_est = np.sum(np.isfinite(freq), axis=0)
+    known = k_est >= 2
+    scale = t.ppf(0.975, k_est[known] - 1) / norm.ppf(0.975) / np.sqrt(k_est[known])
+    freq_std, damping_std = np.full(n_modes, np.nan), np.full(n_modes, np.nan)
+    freq_std[known] = np.nanstd(freq[:, known], axis=0, ddof=1) * scale
+    damping_std[known] = np.nanstd(damping[:, known], axis=0, ddof=1) * scale
+    return freq_std, damping_std
 
 
 def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int):

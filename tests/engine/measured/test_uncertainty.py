@@ -97,3 +97,47 @@ def test_two_segments_damped_ten_percent_apart():
     assert np.all(result.modes["freq_std_hz"] <= 1e-4 * f[:n]), result.modes["freq_std_hz"] / f[:n]  # 4e-6
     alone = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a]).modes
     assert len(alone) == n and alone[["freq_std_hz", "damping_std"]].isna().all().all()
+
+
+def test_a_segment_without_an_estimate_is_not_counted():
+    """A third segment that is a lone pulse (each channel one sample, then
+    zeros) realises a state matrix of zeros in the record's basis: no
+    eigenvalue (ln 0), no estimate. The std is that of the two others with
+    K = 2 (Student's t with one degree of freedom), not K = 3."""
+    a, _ = _free_decay(1.0)
+    b, _ = _free_decay(1.01**2)
+    pulse = np.zeros_like(a)
+    pulse[0] = a[0] + 1.0
+    criteria = modal.StabilityCriteria(min_poles=2)
+    two = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a, b]).modes
+    three = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a, b, pulse]).modes
+    assert len(two) >= 1 and two["freq_std_hz"].notna().all()
+    np.testing.assert_allclose(three[["freq_std_hz", "damping_std"]], two[["freq_std_hz", "damping_std"]], rtol=1e-12)
+    one = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a, pulse]).modes
+    assert one[["freq_std_hz", "damping_std"]].isna().all().all()  # one estimate: no std
+
+
+def test_each_mode_takes_its_own_eigenvalue_when_modes_are_close():
+    """Two modes 2.0 and 2.6 Hz (shapes far apart), two noise-free segments
+    1 % apart in frequency: each mode's std is 1 % of its own frequency (as
+    in the test above), so the search for the segment's eigenvalue starts at
+    the mode's pole, not at 1.5 times it (which is nearer the other mode)."""
+    from scipy.stats import t
+
+    dt, n = 0.02, 1500
+    shapes = np.array([[1.0, 0.3], [0.5, -1.0], [-0.4, 0.8]])
+    time = dt * np.arange(n)[:, None]
+
+    rng = np.random.default_rng(0)
+
+    def decay(freq_hz):  # with noise of 1e-7 so that H(0) has full rank
+        omega = 2 * np.pi * np.asarray(freq_hz)
+        y = (np.exp(-0.01 * omega * time) * np.cos(omega * np.sqrt(1 - 0.01**2) * time)) @ shapes.T
+        return y + 1e-7 * rng.standard_normal(y.shape)
+
+    f = np.array([2.0, 2.6])
+    a, b = decay(f), decay(1.01 * f)
+    modes = modal.stabilisation(a, dt, 12, 40, criteria=modal.StabilityCriteria(min_poles=2), segments=[a, b]).modes
+    np.testing.assert_allclose(modes["freq_hz"], f, rtol=1e-6)
+    expected = 0.01 * f / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    np.testing.assert_allclose(modes["freq_std_hz"], expected, rtol=0.02)
