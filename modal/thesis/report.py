@@ -9,7 +9,6 @@ import numpy as np
 import pandas as pd
 
 from .tables import inclusion_holds, interpretation_summary, read_table
-from .search import table_searches
 
 
 def table_notes(number: int, table: pd.DataFrame) -> list[str]:
@@ -307,6 +306,25 @@ def _assess(cells: pd.DataFrame) -> dict:
                 n_missing=len(missing), mean_abs_dev=float(dev.mean()) if dev.notna().any() else np.nan,
                 max_abs_dev=largest, max_t=max_t, t_critical=critical, stable=stable, log_likelihood=log_likelihood,
                 worst=_where(worst) if worst is not None else "", verdict=verdict, rank=rank, why="; ".join(why))
+
+
+def table_searches(searches, number: int) -> str:
+    """What the searches found for one table, in words (the summary's cause):
+    "" when no search covers it."""
+    if searches is None or not len(searches):
+        return ""
+    rows = searches[searches["table"] == number]
+    words = []
+    for _, row in rows.iterrows():
+        head = f"search '{row['search']}' ({row['n_settings']} settings): "
+        best = f"{row['best']} ({row['best_interpretation']})"
+        if str(row["best"]) == str(row["default"]):
+            best += ", the config's own setting"
+        if row["explains"]:
+            words.append(f"{head}{best} makes it '{row['best_verdict']}' ({row['best_fit']}); not adopted")
+        else:
+            words.append(f"{head}no setting explains it; best {best}: {row['best_fit']}")
+    return "; ".join(words)
 
 
 def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str] | None = None,

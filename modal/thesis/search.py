@@ -235,22 +235,3 @@ def search_summary(name: str, search: Mapping, scores):
             best_overall=f"{overall['values']} ({overall.name[1]})",
             overall_explains=f"{int(overall['explained'])} of {n_tables}"))
     return pd.DataFrame(rows, columns=SUMMARY_COLUMNS)
-
-
-def table_searches(searches, number: int) -> str:
-    """What the searches found for one table, in words (the summary's cause):
-    "" when no search covers it."""
-    if searches is None or not len(searches):
-        return ""
-    rows = searches[searches["table"] == number]
-    words = []
-    for _, row in rows.iterrows():
-        head = f"search '{row['search']}' ({row['n_settings']} settings): "
-        best = f"{row['best']} ({row['best_interpretation']})"
-        if str(row["best"]) == str(row["default"]):
-            best += ", the config's own setting"
-        if row["explains"]:
-            words.append(f"{head}{best} makes it '{row['best_verdict']}' ({row['best_fit']}); not adopted")
-        else:
-            words.append(f"{head}no setting explains it; best {best}: {row['best_fit']}")
-    return "; ".join(words)
