@@ -427,8 +427,9 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     standard deviation of their mean, ``std_k / sqrt(K)``, is that of the
     estimate from the whole record, widened by Student's ``t_{K-1}(0.975) /
     1.96``. ``K`` counts, per mode, the segments that gave an estimate (a
-    segment whose ``U^T H_k(0)`` has lost rank, e.g. a sensor gap of zeros,
-    gives none); NaN where fewer than two did.
+    segment whose state matrix has no finite ``ln z``, e.g. a lone pulse, or
+    whose ``U^T H_k(0)`` is exactly singular, gives none); NaN where fewer
+    than two did.
 
     Returns
     -------
@@ -471,7 +472,7 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
                 damping[k, j] = -near.real / abs(near)
     from scipy.stats import norm, t
 
-    # K per mode: the segments that gave an estimate (one whose H_k(0) lost rank gives none)
+    # K per mode: the segments that gave an estimate
     k_est = np.sum(np.isfinite(freq), axis=0)
     known = k_est >= 2
     scale = t.ppf(0.975, k_est[known] - 1) / norm.ppf(0.975) / np.sqrt(k_est[known])
@@ -510,8 +511,8 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     shapes = pole_shapes[chosen].T
     # the continuous-time poles over their natural frequency: unit complex numbers fixed by the damping ratio
     unit_pole = -poles["damping"][chosen] + 1j * np.sqrt(1 - poles["damping"][chosen] ** 2)
-    gap = np.abs(f[:, None] * unit_pole[:, None] - f[None, :] * unit_pole[None, :]) / np.maximum(f[:, None], f[None, :])
-    distance = gap + 1 - mac(shapes, shapes)
+    pole = f * unit_pole
+    distance = np.abs(pole[:, None] - pole[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     apart = (order[:, None] == order[None, :]) & ~np.eye(len(chosen), dtype=bool)
