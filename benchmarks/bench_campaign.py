@@ -40,6 +40,17 @@ def plan_seconds(folder: Path, n_records: int) -> float:
     return time.perf_counter() - t
 
 
+def seconds_per_record(identify_one, paths) -> float:
+    """Mean seconds of ``identify_one(path)`` over ``paths[1:]``; the first
+    path is a warm-up, not timed (the first call imports what it needs, as a
+    campaign job does once per chunk)."""
+    identify_one(paths[0])
+    t = time.perf_counter()
+    for p in paths[1:]:
+        identify_one(p)
+    return (time.perf_counter() - t) / len(paths[1:])
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--records", type=int, default=40)
@@ -61,11 +72,7 @@ def main() -> None:
             record = modal.read_record(p)
             modal.identify_record(record.acc, record.dt, "ambient", max_order=40, fmax=10)
 
-        ours_one(paths[0])  # warm-up, not timed: the first call imports what it needs (as once per chunk)
-        t = time.perf_counter()
-        for p in paths[1:]:
-            ours_one(p)
-        ours = (time.perf_counter() - t) / len(paths[1:])
+        ours = seconds_per_record(ours_one, paths)
         print(f"modal.identify_record per record, one process: {ours:.3f} s")
         try:
             from pyoma2.algorithms import SSI
@@ -73,6 +80,7 @@ def main() -> None:
         except ImportError:
             print("pyOMA2 not installed (the bench extra): no comparison")
             return
+
         def theirs_one(p):
             record = modal.read_record(p)
             setup = SingleSetup(record.acc, fs=record.fs)
@@ -80,11 +88,7 @@ def main() -> None:
             setup.add_algorithms(SSI(name="SSIcov", method="cov", br=60, ordmin=2, ordmax=40, step=2))
             setup.run_by_name("SSIcov")
 
-        theirs_one(paths[0])  # warm-up, as ours
-        t = time.perf_counter()
-        for p in paths[1:]:
-            theirs_one(p)
-        theirs = (time.perf_counter() - t) / len(paths[1:])
+        theirs = seconds_per_record(theirs_one, paths)
         print(f"pyOMA2 SSI-cov per record (decimated to 25 Hz, 60 block rows, orders 2-40; no mode selection): "
               f"{theirs:.3f} s, {theirs / ours:.1f} x ours")
 
