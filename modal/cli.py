@@ -304,16 +304,21 @@ def _one_line_warnings():
 
 
 def campaign(args) -> int:
-    """``modal campaign``: check the campaign file, then run its workflow
-    (:data:`modal.campaign.SNAKEFILE`) in ``--out`` with this interpreter's
-    Snakemake; returns the exit code."""
+    """``modal campaign``: :func:`modal.campaign.run` with the command line's
+    options, its messages on stderr; returns the exit code."""
     import shlex
-    import subprocess
 
-    from modal.campaign import SNAKEFILE, read_campaign
+    from modal.campaign import WorkflowStopped, run
+    from modal.measured import OutputError
 
+    # What asks for these results, for the report; --cores and --profile change none of them.
+    command = shlex.join(["modal", "campaign", str(args.campaign), "--out", str(args.out)])
     try:
-        config, index = read_campaign(args.campaign)
+        run(args.campaign, args.out, cores=args.cores, profile=args.profile, dry_run=args.dry_run, command=command,
+            log=lambda message: print(f"modal campaign: {message}", file=sys.stderr))
+    except OutputError as exc:
+        print(f"modal campaign: bad --out: {str(exc).removeprefix('out: ')}", file=sys.stderr)
+        return EXIT_BAD_OPTIONS
     except (ValueError, OSError) as exc:
         print(f"modal campaign: {exc}", file=sys.stderr)
         return EXIT_BAD_OPTIONS
@@ -321,27 +326,10 @@ def campaign(args) -> int:
         print(f"modal campaign: needs the workflow extra (pip install 'modal-identification[workflow]'): {exc}",
               file=sys.stderr)
         return EXIT_BAD_OPTIONS
-    if args.out.exists() and not args.out.is_dir():
-        print(f"modal campaign: bad --out: {args.out} is not a folder", file=sys.stderr)
-        return EXIT_BAD_OPTIONS
-    args.out.mkdir(parents=True, exist_ok=True)
-    command = shlex.join(["modal", "campaign", *sys.argv[2:]]) if sys.argv[1:2] == ["campaign"] else "modal campaign"
-    call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(args.out),
-            "--cores", str(args.cores), "--rerun-incomplete", "--keep-going", "--config",
-            f"campaign={args.campaign.resolve()}", f"command={command}"]
-    if args.profile is not None:
-        call += ["--profile", str(args.profile.resolve())]
-    if args.dry_run:
-        call += ["--dry-run", "--quiet", "rules"]
-    print(f"modal campaign: {len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to "
-          f"{config['chunk']}", file=sys.stderr)
-    done = subprocess.run(call)
-    if done.returncode:
-        print(f"modal campaign: the workflow stopped (exit {done.returncode}); its log is in "
-              f"{args.out / '.snakemake' / 'log'}; run the same command again to resume", file=sys.stderr)
+    except WorkflowStopped as exc:
+        print(f"modal campaign: the workflow stopped (exit {exc.returncode}); its log is in {exc.log}; "
+              "run the same command again to resume", file=sys.stderr)
         return EXIT_WORKFLOW
-    if not args.dry_run:
-        print(f"modal campaign: wrote {args.out / 'tracked.csv'} and {args.out / 'report.html'}", file=sys.stderr)
     return 0
 
 

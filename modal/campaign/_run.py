@@ -12,17 +12,22 @@ from ._report import campaign_report
 from ._tracking import read_reference_modes, reference_modes, track_modes
 
 
-def track_campaign(modes_files, failed_files, index: pd.DataFrame, tracking: dict, folder) -> None:
+def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tracking: dict, folder) -> None:
     """Gather the chunks' files and write ``folder/modes.csv`` (every mode of
     every record), ``failed.csv``, ``references.csv`` (from
     ``tracking["reference_modes"]`` or :func:`reference_modes`),
-    ``tracked.csv`` and ``untracked.csv`` (:func:`track_modes`)."""
+    ``tracked.csv`` and ``untracked.csv`` (:func:`track_modes`).
+
+    ``n_records`` is the number of records in the campaign (the index itself,
+    as :func:`modal.campaign.read_campaign` returns it, is taken too: its length)."""
     folder = Path(folder)
+    if isinstance(n_records, pd.DataFrame):
+        n_records = len(n_records)
     modes, failed = gather(modes_files, failed_files)
     if tracking.get("reference_modes"):
         references = read_reference_modes(tracking["reference_modes"])
     else:
-        references = reference_modes(modes, len(index), min_share=tracking["min_share"])
+        references = reference_modes(modes, n_records, min_share=tracking["min_share"])
     tracked, untracked = track_modes(modes, references, tracking["freq_rtol"], tracking["mac_min"])
     modes.to_csv(folder / "modes.csv", index=False, float_format="%.8g")
     failed.to_csv(folder / "failed.csv", index=False)

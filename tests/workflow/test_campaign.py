@@ -9,8 +9,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import modal.campaign
 from modal.campaign import read_campaign, reference_modes, simulate_campaign, track_modes
 from modal.cli import main as cli
+from modal.measured import OutputError
 
 
 @pytest.fixture(scope="module")
@@ -141,3 +143,52 @@ def test_tracking_is_one_to_one_and_gated():
     # c's 2.015 Hz mode lies near mode 1 but has mode 2's shape, 60 % away from mode 2
     # d's only mode lies at mode 1's frequency with mode 2's shape: the MAC gate keeps it apart
     assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 2.015), ("c", 9.0), ("d", 2.01)]
+
+
+def test_run_is_the_entry_point_resumes_and_raises_when_a_job_fails(tmp_path):
+    """``modal.campaign.run`` (what ``modal campaign`` calls) writes every
+    job's log and names its call in the report; run again, with other
+    cores, it reruns nothing and says what it did. A job that fails (here
+    the tracking, on a reference file that is not a table of modes) raises
+    ``WorkflowStopped`` with Snakemake's exit code and where its log is; the
+    identification jobs are kept."""
+    simulate_campaign(tmp_path, n_records=3, every_hours=12, duration=120.0)
+    out = tmp_path / "out"
+    assert modal.campaign.run(tmp_path / "campaign.yaml", out, cores=2) == out
+    assert "modal.campaign.run(" in (out / "report.html").read_text()
+    assert [p.name for p in (out / "logs" / "identify_chunk").iterdir()] == ["c00000.log"]
+    assert (out / "logs" / "track.log").is_file() and (out / "logs" / "report.log").is_file()
+    stamps = {p: p.stat().st_mtime_ns for p in [*out.glob("**/*.csv"), out / "report.html"]}
+    messages = []
+    modal.campaign.run(tmp_path / "campaign.yaml", out, log=messages.append)
+    assert {p: p.stat().st_mtime_ns for p in stamps} == stamps
+    assert messages == ["3 records in 1 chunks of up to 25", f"wrote {out / 'tracked.csv'} and {out / 'report.html'}"]
+    (tmp_path / "bad.csv").write_text("not,modes\n1,2\n")
+    text = (tmp_path / "campaign.yaml").read_text() + "tracking: {reference_modes: bad.csv}\n"
+    (tmp_path / "campaign.yaml").write_text(text)
+    with pytest.raises(modal.campaign.WorkflowStopped) as stopped:
+        modal.campaign.run(tmp_path / "campaign.yaml", out)
+    assert stopped.value.returncode != 0 and stopped.value.log == out / ".snakemake" / "log"
+    chunk = out / "chunks" / "c00000" / "modes.csv"
+    assert chunk.stat().st_mtime_ns == stamps[chunk]  # the identification was not rerun
+    assert "Error" in (out / "logs" / "track.log").read_text()
+
+
+def test_run_plans_and_refuses_before_any_job(tmp_path):
+    """A dry run plans into a new folder and writes no result; bad options
+    are refused before the output folder is made."""
+    simulate_campaign(tmp_path / "c", n_records=2, duration=60.0)
+    config = tmp_path / "c" / "campaign.yaml"
+    plan = tmp_path / "plan"
+    assert modal.campaign.run(config, plan, dry_run=True) == plan
+    assert not list(plan.glob("*.csv")) and not (plan / "chunks").exists()
+    with pytest.raises(OutputError, match="is not a folder"):
+        modal.campaign.run(config, config)
+    with pytest.raises(ValueError, match="profile"):
+        modal.campaign.run(config, tmp_path / "out", profile=tmp_path / "no-profile")
+    with pytest.raises(ValueError, match="cores"):
+        modal.campaign.run(config, tmp_path / "out", cores=0)
+    (tmp_path / "c.yaml").write_text("records: {index: i.csv}\nidentify: {excitation: sideways}\n")
+    with pytest.raises(ValueError, match="identify"):
+        modal.campaign.run(tmp_path / "c.yaml", tmp_path / "out")
+    assert not (tmp_path / "out").exists()

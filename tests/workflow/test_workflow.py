@@ -14,6 +14,7 @@ import yaml
 from snakemake.utils import validate
 
 import modal
+import modal.campaign
 import modal.thesis.config
 
 from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake
@@ -192,9 +193,25 @@ def test_failed_job_leaves_no_table_and_rerun_recovers(workdir):
     assert table.exists()
 
 
+def _lints(*args, cwd=ROOT):
+    proc = subprocess.run([sys.executable, "-m", "snakemake", "--lint", *args], cwd=cwd, capture_output=True,
+                          text=True)
+    return [line.strip() for line in (proc.stdout + proc.stderr).splitlines() if line.strip().startswith("* ")]
+
+
 def test_lint_clean_apart_from_conda():
-    proc = subprocess.run([sys.executable, "-m", "snakemake", "--lint"], cwd=ROOT, capture_output=True, text=True)
-    lints = [line.strip() for line in (proc.stdout + proc.stderr).splitlines() if line.strip().startswith("* ")]
+    lints = _lints()
+    assert lints, "expected at least the conda lint"
+    assert all("conda environment or container" in lint for lint in lints), lints
+
+
+def test_campaign_workflow_lint_clean_apart_from_conda(tmp_path):
+    """The campaign's workflow (modal/campaign/Snakefile) meets the same bar,
+    on a campaign of one record (the index is read, the record not)."""
+    (tmp_path / "index.csv").write_text("path,time\na.npy,2025-01-01\n")
+    (tmp_path / "campaign.yaml").write_text("records: {index: index.csv}\nidentify: {excitation: ambient}\n")
+    lints = _lints("--snakefile", str(modal.campaign.SNAKEFILE), "--config",
+                   f"campaign={tmp_path / 'campaign.yaml'}", cwd=tmp_path)
     assert lints, "expected at least the conda lint"
     assert all("conda environment or container" in lint for lint in lints), lints
 
@@ -263,7 +280,8 @@ def test_rules_declare_relative_code_inputs(workdir):
 
 
 def test_snakemake_files_are_snakefmt_formatted():
-    files = [str(ROOT / "Snakefile"), *map(str, sorted((ROOT / "workflow/rules").glob("*.smk")))]
+    files = [str(ROOT / "Snakefile"), *map(str, sorted((ROOT / "workflow/rules").glob("*.smk"))),
+             str(modal.campaign.SNAKEFILE)]
     proc = subprocess.run([sys.executable, "-m", "snakefmt", "--check", *files], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stdout + proc.stderr
 

@@ -1,6 +1,11 @@
-"""Rule report of ``modal campaign``: the self-contained HTML report."""
+"""Rule report of ``modal campaign``: the self-contained HTML report;
+warnings and errors go to the job's log."""
+
+import sys
+from pathlib import Path
 
 from modal.campaign import report_campaign
 
-report_campaign(".", snakemake.params.n_records, snakemake.config["campaign"],  # noqa: F821 (given by Snakemake)
-                snakemake.config.get("command", ""))  # noqa: F821
+sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 (given by Snakemake)
+report_campaign(Path(snakemake.output[0]).parent, snakemake.params.n_records,  # noqa: F821
+                snakemake.input.campaign, snakemake.params.command)  # noqa: F821

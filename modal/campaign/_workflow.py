@@ -1,0 +1,123 @@
+"""The Python entry point of a campaign: :func:`run` checks the campaign file
+and the options, then runs the campaign's workflow (:data:`SNAKEFILE`) in the
+output folder with this interpreter's Snakemake. ``modal campaign`` calls it.
+
+Snakemake runs as a separate process through its command line, the interface
+it keeps stable (its Python API changed between versions 7, 8 and 9), and so
+that a job's failure cannot take the caller's process with it.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+from ._config import read_campaign
+
+#: The workflow :func:`run` (and ``modal campaign``) runs.
+SNAKEFILE = Path(__file__).with_name("Snakefile")
+
+
+class WorkflowStopped(RuntimeError):
+    """The campaign's workflow stopped before it was done: Snakemake exited
+    with ``returncode``. Its log is under ``log`` (``out/.snakemake/log``),
+    each job's under ``out/logs``. Running again resumes: finished jobs are
+    kept."""
+
+    def __init__(self, returncode: int, log: Path):
+        super().__init__(f"the workflow stopped (exit {returncode}); its log is in {log}; run again to resume")
+        self.returncode = returncode
+        self.log = log
+
+
+def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, command: str | None = None,
+        log: Callable[[str], None] | None = None) -> Path:
+    """Identify every record of a campaign, track the modes and write the report.
+
+    Everything is checked before any job runs: the campaign file
+    (:func:`modal.campaign.read_campaign`), the output folder, the profile
+    and Snakemake's presence. Then the campaign's workflow runs in ``out``;
+    a second call with the same campaign resumes, and records added to the
+    index add only their jobs (docs: Monitoring campaigns).
+
+    Parameters
+    ----------
+    campaign : path-like
+        The campaign's YAML file.
+    out : path-like
+        The output folder (created; kept between runs). It receives
+        ``tracked.csv``, ``untracked.csv``, ``failed.csv``, ``modes.csv``,
+        ``references.csv``, ``report.html``, the chunks' files under
+        ``chunks/`` and the jobs' logs under ``logs/``.
+    cores : int
+        Cores to use on this machine (with a cluster profile: jobs at once).
+    profile : path-like, optional
+        A Snakemake profile folder (``config.yaml``), e.g. one for Slurm.
+    dry_run : bool
+        Plan only: Snakemake prints the jobs that would run; no job runs.
+    command : str, optional
+        How the results were asked for, for the report's provenance; by
+        default this call, written as Python. Leave out what does not change
+        the results (cores, profile): the report is rerun when it changes.
+    log : callable, optional
+        Called with each progress message (a ``str``): the number of records
+        and chunks before the workflow starts, the files written after it.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out``.
+
+    Raises
+    ------
+    ValueError
+        The campaign file is refused (the message names the key and the
+        fix), ``cores`` is not a positive integer or ``profile`` is not a
+        folder; :class:`modal.measured.OutputError` (a ``ValueError``) when
+        ``out`` is not a folder or cannot be created.
+    ImportError
+        The workflow extra (Snakemake, jsonschema, PyYAML) is not installed.
+    WorkflowStopped
+        The workflow stopped: a job failed (a record that cannot be read or
+        identified is not a failure: ``failed.csv`` lists it), or it was
+        interrupted.
+    """
+    from ..measured import OutputError
+
+    log = log or (lambda message: None)
+    if isinstance(cores, bool) or not isinstance(cores, int) or cores < 1:
+        raise ValueError(f"cores: {cores!r} is not a positive integer")
+    config, index = read_campaign(campaign)
+    if importlib.util.find_spec("snakemake") is None:
+        raise ImportError("snakemake is not installed")
+    if profile is not None and not Path(profile).is_dir():
+        raise ValueError(f"profile: {profile} is not a folder (a Snakemake profile is a folder with config.yaml)")
+    out = Path(out)
+    if out.exists() and not out.is_dir():
+        raise OutputError(f"out: {out} is not a folder")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise OutputError(f"out: cannot create {out}: {exc.strerror or exc}") from None
+    if command is None:
+        command = f"modal.campaign.run({str(campaign)!r}, {str(out)!r})"
+    # Config values as JSON strings: Snakemake reads a bare value as a number or YAML
+    # (a path with ": " in it would become a mapping).
+    call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(out),
+            "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--config",
+            f"campaign={json.dumps(str(Path(campaign).resolve()))}", f"command={json.dumps(command)}"]
+    if profile is not None:
+        call += ["--profile", str(Path(profile).resolve())]
+    if dry_run:
+        call += ["--dry-run", "--quiet", "rules"]
+    log(f"{len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to {config['chunk']}")
+    done = subprocess.run(call)
+    if done.returncode:
+        raise WorkflowStopped(done.returncode, out / ".snakemake" / "log")
+    if not dry_run:
+        log(f"wrote {out / 'tracked.csv'} and {out / 'report.html'}")
+    return out
