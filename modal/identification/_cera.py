@@ -58,7 +58,7 @@ def cera(y, dt, n_modes, cols, start=0) -> ModalResult:
         ``short_window`` modes with fewer than six periods in ``s dt``;
         ``eigenvalues`` holds ``lambda``. A :class:`~modal.ModalWarning` names
         flagged modes, and another warns when the record from ``start`` on is
-        not a free response (:func:`modal.result.free_response_growth`).
+        not a free response (:func:`modal.identification._result.free_response_growth`).
     """
     y = records("y", y)
     dt = positive_float("dt", dt)

@@ -29,7 +29,7 @@ def era(y, dt, n_modes, rows, cols, start=0, svd="auto") -> ModalResult:
     ``short_window``; a :class:`~modal.ModalWarning` names them. Another
     warns when the record from ``start`` on is not a free response (its
     energy keeps rising, as an ambient record's does;
-    :func:`modal.result.free_response_growth`): use the NExT correlation
+    :func:`modal.identification._result.free_response_growth`): use the NExT correlation
     functions (:func:`modal.correlations`) of such records instead.
 
     The data are divided by a power of two near their peak before the Hankel
@@ -142,7 +142,7 @@ def eigen_poles(phi, output, states):
 
     Solves ``Phi psi = psi z`` (Eq. 42) and keeps one entry per
     complex-conjugate pair (``Im z > 0``) and per real eigenvalue (``|Im z|``
-    at most :data:`REAL_POLE_TOL` ``|z|``).
+    at most :data:`modal.identification._era_kernels.REAL_POLE_TOL` ``|z|``).
 
     Parameters
     ----------

@@ -273,7 +273,7 @@ def real_eigensystem(phi, output, states):
     Parameters
     ----------
     phi, output, states
-        As :func:`eigen_poles`, which checks them (here they are taken as
+        As :func:`modal.identification._era.eigen_poles`, which checks them (here they are taken as
         they come: :func:`modal.stabilisation` calls this once per order on
         a realisation of checked data).
 
@@ -302,7 +302,7 @@ def real_eigensystem(phi, output, states):
 
 
 def complex_poles(wr, wi, real_shapes, real_histories):
-    """:func:`eigen_poles`'s outputs from one or more real eigensystems
+    """:func:`modal.identification._era.eigen_poles`'s outputs from one or more real eigensystems
     (:func:`real_eigensystem`) concatenated along the eigenvalues.
 
     The complex eigenvectors are ``psi = V M`` with ``M = [[1, 1], [i, -i]]``
@@ -321,7 +321,7 @@ def complex_poles(wr, wi, real_shapes, real_histories):
     Returns
     -------
     z, real, complex_shapes, histories
-        As :func:`eigen_poles`.
+        As :func:`modal.identification._era.eigen_poles`.
     kept : ndarray of int
         Positions of the kept eigenvalues in ``wr``.
     """

@@ -6,7 +6,7 @@ Every model order comes from one decomposition of ``H(0)`` (Eq. 35): the
 realisation of order ``k`` keeps the ``k`` largest singular triplets (Sec.
 4.4), i.e. the first ``k`` columns of ``P``, entries of ``D`` and rows of
 ``Q^T``, so order ``k`` is a truncation of order ``max_order``
-(:func:`modal.era.decompose`, :func:`modal.era.realise`).
+(:func:`modal.identification.decompose`, :func:`modal.identification._era.realise`).
 """
 
 from __future__ import annotations
@@ -263,7 +263,7 @@ def stabilisation(
     quantities : sequence of str, optional
         What each channel measures: ``"displacement"``, ``"velocity"`` or
         ``"acceleration"``; the shapes are then in the first channel's
-        quantity (:func:`modal.era.pole_indicators`). Default: all the same.
+        quantity (:func:`modal.identification._era.pole_indicators`). Default: all the same.
     segments : sequence of array_like, optional
         ``K >= 2`` data sets shaped like ``y``, from non-overlapping parts of
         the record: ``freq_std_hz`` and ``damping_std`` of each mode.
@@ -331,18 +331,19 @@ def stabilisation(
 
 def _poles(p, d, qt, h1, orders, l, m, dt, progress=None, derivatives=None):
     """Poles of every order in ``orders``, each realised from the leading
-    ``order`` triplets of ``P D Q^T`` (Sec. 4.4), as :func:`modal.era.realise`
+    ``order`` triplets of ``P D Q^T`` (Sec. 4.4), as :func:`modal.identification._era.realise`
     would give them order by order.
 
     The realisation of order ``k`` is the leading ``k x k`` block of the
     largest order's ``Phi = D^{-1/2} P^T H(1) Q D^{-1/2}`` (Eq. 41) and the
     leading ``k`` columns of ``E_p^T P D^{1/2}`` (Eq. 43), so both are formed
     once. Each order then costs its real eigenproblem (Eq. 42,
-    :func:`modal.era.real_eigensystem`) and the inverse of its eigenvector
-    matrix; complex shapes and modal histories (:func:`modal.era.complex_poles`),
-    frequencies, damping, MPC and MAMC (:func:`modal.era.pole_indicators`)
-    follow for all poles of all orders at once, as :func:`modal.era.realise`
-    gives them order by order.
+    :func:`modal.identification._era_kernels.real_eigensystem`) and the
+    inverse of its eigenvector matrix; complex shapes and modal histories
+    (:func:`modal.identification._era_kernels.complex_poles`), frequencies,
+    damping, MPC and MAMC (:func:`modal.identification._era.pole_indicators`)
+    follow for all poles of all orders at once, as
+    :func:`modal.identification._era.realise` gives them order by order.
 
     Returns
     -------

@@ -60,7 +60,7 @@ def tcm(acc, dt, n_modes=None, vel=None, lag=0, duration=None) -> ModalResult:
 
     Another warning comes when ``acc`` is not a free response (its energy
     keeps rising, as an ambient record's does;
-    :func:`modal.result.free_response_growth`): the TCM's inner products
+    :func:`modal.identification._result.free_response_growth`): the TCM's inner products
     (Eqs. 21-26) assume one. The signals are divided by a power of two near
     the peak of ``acc`` first, so results do not depend on units or scale.
 

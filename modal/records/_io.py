@@ -7,7 +7,7 @@ every ``dt`` seconds, the input of :func:`modal.tcm`, :func:`modal.era`,
 :func:`modal.cera` and :func:`modal.stabilisation`; a measured grid record
 (thesis Sec. 7.2: 4096 samples at 200 Hz from eleven accelerometers) loads
 with :func:`load_record` and feeds the same pipeline as the virtual test of
-:mod:`modal.experiment`. :func:`read_record` returns the same arrays with the
+:func:`modal.structures.shake_test`. :func:`read_record` returns the same arrays with the
 channels' metadata (name, node, direction, unit) where the file has them.
 
 Every error raised while reading names the file, and for text files the row

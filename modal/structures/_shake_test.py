@@ -6,7 +6,7 @@ seconds for the higher modes to die out, then recorded 4096 samples at 200 Hz
 the eleven were kept "based on the sharpness of the peaks" of their frequency
 response plots, and the four lowest frequencies were estimated "through
 inspection" of those plots (Sec. 7.2). :func:`shake_test` stands in for the
-measurement on the finite-element :class:`~modal.grid.Grid`;
+measurement on the finite-element :class:`~modal.structures.Grid`;
 :func:`select_sharpest` and :func:`pick_peaks` make the two manual steps
 measurable and repeatable.
 
@@ -231,7 +231,7 @@ def shake_test(
     ShakeTest
     """
     if not isinstance(grid, Grid):
-        raise ValueError(f"grid must be a modal.grid.Grid, got {type(grid).__name__}")
+        raise ValueError(f"grid must be a modal.Grid, got {type(grid).__name__}")
     fs = positive_float("fs", fs)
     dt = 1.0 / fs
     n_samples = positive_int("n_samples", n_samples, minimum=2)

@@ -1,7 +1,11 @@
-"""The documentation: the site builds strictly, and the README's examples run as typed.
+"""The documentation: the site builds strictly, the docstrings' cross-references
+resolve, and the README's examples run as typed.
 
 ``mkdocs build --strict`` fails on a broken link, a missing page in the
-navigation or an API reference mkdocstrings cannot resolve. The README's
+navigation or an API reference mkdocstrings cannot resolve. The docstrings'
+Sphinx roles (:func:`modal.era`) are shown as code on the site (they stay
+roles for ``help()`` and IDEs), so no build resolves them: a test does, against
+the objects themselves. The README's
 ``modal`` commands and Python examples are run from a scratch folder that sees the project's
 ``tests/`` and this interpreter's environment as ``.venv``, so they write
 nowhere in the checkout.
@@ -9,6 +13,8 @@ nowhere in the checkout.
 
 from __future__ import annotations
 
+import ast
+import importlib
 import os
 import re
 import shlex
@@ -38,6 +44,107 @@ def test_site_builds_strictly(tmp_path):
         assert (site / page).is_file(), page
     # mkdocstrings rendered the API, not an empty page.
     assert 'id="modal.identification.era"' in (site / "api/identification.html").read_text()
+    assert 'id="modal.campaign.run"' in (site / "api/campaign.html").read_text()
+    # The configuration reference was written from both schemas (docs/_hooks/config_reference.py).
+    reference = (site / "configuration.html").read_text()
+    assert "config-reference:" not in reference
+    for key in ("seeds.chunk", "grid.model.width", "measured.&lt;name&gt;.max_order", "tracking.freq_rtol"):
+        assert f"<code>{key}</code>" in reference, key
+
+
+#: A Sphinx cross-reference role in a docstring: :func:`modal.era`, :class:`~modal.ModalResult`.
+ROLE = re.compile(r":(?:py:)?(?:func|class|meth|data|attr|mod|obj|exc|const):`~?([^`]+)`")
+
+
+def _attribute(obj, name):
+    """``getattr``, and a class's annotated fields (a dataclass field without
+    a default is no class attribute)."""
+    try:
+        return getattr(obj, name)
+    except AttributeError:
+        if isinstance(obj, type) and any(name in vars(c).get("__annotations__", {}) for c in obj.__mro__):
+            return None
+        raise
+
+
+def _resolves(target: str, scopes: list) -> bool:
+    """Whether ``target`` names an object, as Sphinx's Python domain looks it
+    up: a dotted path from its longest importable module; otherwise (a short
+    name, or one with a leading dot) an attribute or submodule of one of
+    ``scopes`` (the enclosing class, the module, its package, ``modal``)."""
+    parts = target.lstrip(".").split(".")
+    if not target.startswith("."):
+        for i in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:i]))
+            except ImportError:
+                continue
+            try:
+                for part in parts[i:]:
+                    obj = _attribute(obj, part)
+                return True
+            except AttributeError:
+                break
+    for scope in scopes:
+        obj = scope
+        try:
+            for part in parts:
+                obj = _attribute(obj, part)
+            return True
+        except AttributeError:
+            pass
+        if getattr(scope, "__path__", None) is not None or hasattr(scope, "__file__"):
+            try:
+                importlib.import_module(f"{scope.__name__}.{'.'.join(parts)}")
+                return True
+            except ImportError:
+                pass
+    return False
+
+
+def docstring_roles():
+    """``(module, target, scopes)`` for every role in the docstrings of the
+    package ``modal`` (modules, classes, functions; not the workflow scripts
+    shipped in it, which run only under Snakemake)."""
+    import modal
+
+    for path in sorted((ROOT / "modal").rglob("*.py")):
+        if "scripts" in path.relative_to(ROOT).parts or path.name == "__main__.py":
+            continue
+        name = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
+        module = importlib.import_module(name)
+        package = module if path.name == "__init__.py" else importlib.import_module(name.rpartition(".")[0])
+        stack = [(ast.parse(path.read_text()), [module])]
+        while stack:
+            node, scopes = stack.pop()
+            if isinstance(node, ast.ClassDef):
+                cls = getattr(scopes[0], node.name, None)
+                scopes = [cls, *scopes] if cls is not None else scopes
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+                for target in ROLE.findall(ast.get_docstring(node, clean=False) or ""):
+                    yield name, target.strip(), [*scopes, package, modal]
+            stack.extend((child, scopes) for child in ast.iter_child_nodes(node))
+
+
+def test_docstring_cross_references_resolve():
+    """Every :func:, :class:, :mod:, ... role in modal's docstrings names an
+    object that exists: a renamed or moved function leaves no stale reference."""
+    roles = list(docstring_roles())
+    assert len(roles) > 100
+    stale = sorted({f"{module}: {target}" for module, target, scopes in roles if not _resolves(target, scopes)})
+    assert not stale, "stale cross-references:\n" + "\n".join(stale)
+
+
+def test_a_stale_cross_reference_is_caught():
+    import modal
+    import modal.identification._era as era_module
+
+    scopes = [era_module, modal.identification, modal]
+    assert _resolves("modal.era", scopes) and _resolves("era", scopes) and _resolves("modal.ModalResult.omega", scopes)
+    assert _resolves("hankel", scopes)  # imported into the module
+    assert not _resolves("modal.nonexistent", scopes)
+    assert not _resolves("modal.result.free_response_growth", scopes)  # a module that moved
+    assert not _resolves("modal.era.realise", scopes)  # a function, not a module: no attribute realise
 
 
 def readme_commands(text: str) -> list[str]:
