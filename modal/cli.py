@@ -110,6 +110,43 @@ def _quantities(text: str) -> list[str]:
     return full
 
 
+#: How the command line reads each kind of option of :class:`modal.IdentifyOptions`.
+_PARSERS = {"number": _positive(float), "integer": _positive(int), "integer-list": _indices,
+            "quantity-list": _quantities}
+
+
+def _identify_options(cmd) -> None:
+    """The options of :class:`modal.IdentifyOptions` as command-line options,
+    derived from its fields: the flag, help, kind and default are the
+    field's; ``excitation`` is the required choice ``--ambient`` |
+    ``--free-decay``. Each option left out is ``None`` (the field's default)."""
+    import dataclasses
+
+    from modal.measured import IdentifyOptions
+
+    for f in dataclasses.fields(IdentifyOptions):
+        schema, help = f.metadata["schema"], f.metadata["help"]
+        if f.metadata["flag"] is None:  # a choice: one flag per value
+            group = cmd.add_mutually_exclusive_group(required=f.default is dataclasses.MISSING)
+            for value in schema["enum"]:
+                group.add_argument(f"--{value.replace('_', '-')}", dest=f.name, action="store_const", const=value,
+                                   help=f"{f.name} {value}: {help}")
+            continue
+        kind = schema["type"][0] if isinstance(schema["type"], list) else schema["type"]
+        if kind == "array":
+            kind = "quantity-list" if "enum" in schema["items"] else "integer-list"
+        cmd.add_argument(f.metadata["flag"], dest=f.name, type=_PARSERS[kind], metavar=f.metadata["metavar"],
+                         help=help)
+
+
+def identify_options(args):
+    """The :class:`modal.IdentifyOptions` of parsed arguments (``ValueError``
+    naming the option when they contradict each other)."""
+    from modal.measured import IdentifyOptions
+
+    return IdentifyOptions.from_mapping({name: getattr(args, name) for name in IdentifyOptions.names()})
+
+
 def parser() -> argparse.ArgumentParser:
     main = argparse.ArgumentParser(prog="modal", description="Modal identification of measured records.")
     commands = main.add_subparsers(dest="command", required=True)
@@ -123,21 +160,7 @@ def parser() -> argparse.ArgumentParser:
                      help="a record (.npy .npz .csv .txt .tsv .lvm .uff .unv), or the setups of a roving test: "
                           "folders in pyOMA's layout or with a channels.csv beside the record (merged into one "
                           "set of modes)")
-    cmd.add_argument("--fs", type=_positive(float), help="sampling rate (Hz); overrides a text file's time column")
-    cmd.add_argument("--channels", type=_indices, help="channels to use, 0-based, e.g. 0,1,2 (default all)")
-    cmd.add_argument("--refs", type=_indices, help="reference channels for the correlations: the record's "
-                     "channel numbers, among --channels (default all)")
-    kind = cmd.add_mutually_exclusive_group(required=True)
-    kind.add_argument("--ambient", action="store_true", help="output-only (operational) record")
-    kind.add_argument("--free-decay", action="store_true", help="impact test: the decay after the impact")
-    cmd.add_argument("--fmax", type=_positive(float), help="highest frequency of interest (Hz); decimates to 2.5 fmax "
-                     "(default: from the record's lowest spectral peak, see the log)")
-    cmd.add_argument("--max-order", type=_positive(int), default=60, help="largest model order, even (default 60)")
-    cmd.add_argument("--rows", type=_positive(int), help="block rows of the Hankel matrix (default: 3 periods of the "
-                     "lowest spectral peak without --fmax, 60 or more with it)")
-    cmd.add_argument("--quantities", type=_quantities, help="what each channel used measures, d (displacement), "
-                     "v (velocity) or a (acceleration), e.g. v,v,a,a: one shape from mixed channels (default all alike)")
-    cmd.add_argument("--highpass", type=_positive(float), help="zero-phase high-pass before identification (Hz)")
+    _identify_options(cmd)
     cmd.add_argument("--delimiter", help="text files: column delimiter (default: sniffed)")
     cmd.add_argument("--decimal", default=".", choices=[".", ","], help="text files: decimal mark")
     cmd.add_argument("--skip-rows", type=int, default=0, help="text files: lines to skip at the top")
@@ -204,10 +227,14 @@ def identify(args) -> int:
     import modal
     from modal.measured import OutputError, check_output
 
+    try:
+        options = identify_options(args)
+    except ValueError as exc:
+        return _fail(EXIT_BAD_OPTIONS, f"bad options: {exc}")
     first = args.paths[0]
     if len(args.paths) > 1 or args.geometry is not None or \
             any((first / name).is_file() for name in ("channel_dofs.txt", "channels.csv")):
-        return identify_setups(args)
+        return identify_setups(args, options)
     args.path = args.paths[0]
     log, fail = _logger(args), _fail
 
@@ -227,16 +254,17 @@ def identify(args) -> int:
         return fail(EXIT_BAD_FILE, f"cannot read the record: {exc}")
     n_samples, n_channels = record.acc.shape
     log(f"read {args.path}: {n_samples} samples x {n_channels} channels at {record.fs:.6g} Hz")
+    problems = options.record_problems(n_channels, record.fs)
+    if problems:
+        return fail(EXIT_BAD_OPTIONS, f"bad options for {args.path}: {'; '.join(problems)}")
     written, code = _written(args, lambda: modal.write_identification(
-        record, args.out, "ambient" if args.ambient else "free_decay", channels=args.channels, refs=args.refs,
-        max_order=args.max_order, fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass, title=args.path.name,
-        log=log, progress=progress, quantities=args.quantities), subject=f"{args.path}: ")
+        record, args.out, options, title=args.path.name, log=log, progress=progress), subject=f"{args.path}: ")
     if code is not None:
         return code
     result = written[0]
     log(f"wrote {args.out / 'modes.csv'}, poles.csv and stabilisation.png")
     modes = result.modes
-    print(f"{args.path.name}: {len(modes)} modes ({args.max_order // 2} orders, {len(result.poles)} poles)")
+    print(f"{args.path.name}: {len(modes)} modes ({options.max_order // 2} orders, {len(result.poles)} poles)")
     if len(modes):
         print("damping: ratio to critical (fraction, not %), as in modes.csv; *_std: standard deviation of the "
               "estimate; *_spread: over the model orders")
@@ -247,9 +275,10 @@ def identify(args) -> int:
     return fail(EXIT_NO_MODES, f"no mode selected: {result.no_mode_reason()}")
 
 
-def identify_setups(args) -> int:
-    """``modal identify SETUP [SETUP ...]``: each setup identified, the setups
-    merged through their reference channels (:func:`modal.write_setups`)."""
+def identify_setups(args, options) -> int:
+    """``modal identify SETUP [SETUP ...]``: each setup identified with
+    ``options`` (:class:`modal.IdentifyOptions`), the setups merged through
+    their reference channels (:func:`modal.write_setups`)."""
     import modal
 
     log, fail = _logger(args), _fail
@@ -265,9 +294,8 @@ def identify_setups(args) -> int:
     except (ValueError, OSError) as exc:
         return fail(EXIT_BAD_FILE, f"cannot read the setups: {exc}")
     written, code = _written(args, lambda: modal.write_setups(
-        setups, args.out, "ambient" if args.ambient else "free_decay", geometry=geometry,
-        min_setups=args.min_setups, animate=not args.no_animation, log=log, max_order=args.max_order,
-        fmax=args.fmax, rows=args.rows, highpass_hz=args.highpass))
+        setups, args.out, options, geometry=geometry, min_setups=args.min_setups, animate=not args.no_animation,
+        log=log))
     if code is not None:
         return code
     merged, results = written

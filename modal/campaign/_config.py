@@ -33,19 +33,14 @@ from pathlib import Path
 
 import pandas as pd
 
-OPTIONS = {
-    "fs": {"type": ["number", "null"], "exclusiveMinimum": 0},
-    "excitation": {"enum": ["ambient", "free_decay"]},
-    "channels": {"type": ["array", "null"], "items": {"type": "integer", "minimum": 0}, "minItems": 1,
-                 "uniqueItems": True},
-    "refs": {"type": ["array", "null"], "items": {"type": "integer", "minimum": 0}, "minItems": 1,
-             "uniqueItems": True},
-    "quantities": {"type": ["array", "null"], "items": {"enum": ["displacement", "velocity", "acceleration"]}},
-    "fmax": {"type": ["number", "null"], "exclusiveMinimum": 0},
-    "max_order": {"type": "integer", "minimum": 2, "multipleOf": 2},
-    "rows": {"type": ["integer", "null"], "minimum": 1},
-    "highpass_hz": {"type": ["number", "null"], "exclusiveMinimum": 0},
-}
+def _identify_schema() -> dict:
+    """The ``identify`` section's schema: :class:`modal.IdentifyOptions`'s own."""
+    from ..measured import IdentifyOptions
+
+    schema = IdentifyOptions.json_schema()
+    return {"type": "object", "additionalProperties": False, "required": schema["required"],
+            "properties": schema["properties"]}
+
 
 SCHEMA = {
     "type": "object",
@@ -59,8 +54,7 @@ SCHEMA = {
             "oneOf": [{"required": ["index"], "not": {"required": ["glob"]}},
                       {"required": ["glob", "time_format"], "not": {"required": ["index"]}}],
         },
-        "identify": {"type": "object", "additionalProperties": False, "required": ["excitation"],
-                     "properties": OPTIONS},
+        "identify": _identify_schema(),
         "tracking": {
             "type": "object", "additionalProperties": False,
             "properties": {"reference_modes": {"type": ["string", "null"]},
@@ -100,6 +94,8 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     import jsonschema
     import yaml
 
+    from ..measured import IdentifyOptions
+
     path = Path(path).resolve()
     try:
         config = yaml.safe_load(path.read_text())
@@ -117,7 +113,9 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     base = path.parent
     config["tracking"] = {**TRACKING_DEFAULTS, **(config.get("tracking") or {})}
     config.setdefault("chunk", CHUNK)
-    config["identify"] = {"max_order": 60, **config["identify"]}
+    # The options checked once (IdentifyOptions: bounds and cross-checks) and
+    # written out in full, defaults included, for the jobs.
+    config["identify"] = IdentifyOptions.from_mapping(config["identify"], where=f"{path}: identify").to_dict()
     if config["tracking"]["reference_modes"]:
         reference = (base / config["tracking"]["reference_modes"]).resolve()
         if not reference.is_file():

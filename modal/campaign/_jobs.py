@@ -13,24 +13,19 @@ MODE_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "
 FAILED_COLUMNS = ["record", "reason"]
 
 
-def identify_one(path, options: dict):
-    """Modes of one record with ``modal identify``'s options (``fs``,
-    ``excitation``, ``channels``, ``refs``, ``quantities``, ``fmax``,
-    ``max_order``, ``rows``, ``highpass_hz``): the :class:`Stabilisation`,
-    or ``ValueError``/``OSError`` saying why it cannot be read or
-    identified."""
-    from ..measured import identify_record
-    from ..measured._pipeline import channel_choice
+def identify_one(path, options):
+    """Modes of one record with ``modal identify``'s options
+    (:class:`modal.IdentifyOptions`, or a mapping of them such as a campaign
+    file's ``identify`` section): the :class:`Stabilisation`, or
+    ``ValueError``/``OSError`` saying why it cannot be read or identified."""
+    from ..measured import identify_options, identify_record
     from ..records import read_record
 
-    record = read_record(path, options.get("fs"))
-    channels, refs = channel_choice(record.acc.shape[1], options.get("channels"), options.get("refs"))
+    options = identify_options(options)
+    record = read_record(path, options.fs)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # "no mode selected" and the like: the table says it
-        result, _ = identify_record(record.acc[:, channels], record.dt, options["excitation"],
-                                    max_order=options.get("max_order", 60), fmax=options.get("fmax"),
-                                    rows=options.get("rows"), refs=refs, highpass_hz=options.get("highpass_hz"),
-                                    quantities=options.get("quantities"), channel_labels=channels)
+        result, _ = identify_record(record.acc, record.dt, options)
     return result
 
 

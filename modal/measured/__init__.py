@@ -2,11 +2,13 @@
 NExT correlations or the free decay, the stabilisation diagram) and a record's
 results written to a folder."""
 
-from ._output import OutputError, check_output
-from ._pipeline import (EXCITATIONS, NO_VIBRATION_RTOL, available_memory, identify_record, memory_needed,
-                        no_vibration, shape_columns, write_identification, write_results)
+from ._options import EXCITATIONS, MAX_ORDER, QUANTITY_NAMES, IdentifyOptions, identify_options
+from ._output import OutputError, check_output, staged_folder
+from ._pipeline import (NO_VIBRATION_RTOL, available_memory, identify_record, memory_needed, no_vibration,
+                        shape_columns, write_identification, write_results, write_settings)
 
-# check_output, no_vibration, NO_VIBRATION_RTOL and shape_columns are helpers of the
-# pipeline, importable from here; the names below are also re-exported by modal.
-__all__ = ["EXCITATIONS", "OutputError", "available_memory", "identify_record", "memory_needed",
-           "write_identification"]
+# check_output, staged_folder, no_vibration, NO_VIBRATION_RTOL, shape_columns, write_results,
+# write_settings and identify_options are helpers of the pipeline (the roving test's and the
+# campaign's routes use them), importable from here; the names below are also re-exported by modal.
+__all__ = ["EXCITATIONS", "IdentifyOptions", "OutputError", "available_memory", "identify_record",
+           "memory_needed", "write_identification"]

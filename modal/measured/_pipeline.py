@@ -10,11 +10,10 @@ from collections.abc import Callable
 import numpy as np
 import pandas as pd
 
-from .._checks import positive_float, positive_int, unit_scale
+from .._checks import positive_float, unit_scale
 from ..identification import Stabilisation, StabilityCriteria, stabilisation
+from ._options import EXCITATIONS, IdentifyOptions, identify_options
 
-
-EXCITATIONS = ("ambient", "free_decay")
 #: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
 #: the record's lowest spectral peak ...
 AUTO_PERIODS = 3
@@ -174,24 +173,20 @@ def _refuse_beyond_memory(n_samples, n_channels, rows, cols, n_refs) -> None:
 def identify_record(
     acc,
     dt,
-    excitation,
-    max_order=60,
-    fmax=None,
-    rows=None,
-    refs=None,
-    highpass_hz=None,
+    options: IdentifyOptions | str | None = None,
+    *,
     criteria: StabilityCriteria | None = None,
     log: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
-    quantities=None,
     channel_labels=None,
+    **keywords,
 ) -> tuple[Stabilisation, float]:
     """Modes of a measured record, as ``modal identify`` finds them.
 
-    Steps: remove a linear trend (:func:`detrend`); with ``fmax``, decimate
-    (:func:`decimate`) by ``q = floor(fs / (2.5 fmax))`` so that the
-    anti-aliasing filter passes ``fmax``; optionally high-pass
-    (:func:`zero_phase_filter`). Then
+    Steps: keep the channels used (``options.channels``); remove a linear
+    trend (:func:`detrend`); with ``fmax``, decimate (:func:`decimate`) by
+    ``q = floor(fs / (2.5 fmax))`` so that the anti-aliasing filter passes
+    ``fmax``; optionally high-pass (:func:`zero_phase_filter`). Then
 
     - ``"ambient"``: NExT correlation functions (:func:`modal.correlations`,
       biased) with ``2 rows + 1`` lags, one data set per reference, are the
@@ -209,7 +204,9 @@ def identify_record(
     data allow (free decay: at most ``10 rows``, the decay is then long gone
     into noise for lightly damped structures sampled at ``2.5 fmax``).
 
-    Refused with ``ValueError`` before the work: a channel with no vibration
+    Refused with ``ValueError`` before the work: options the record cannot
+    take (:meth:`IdentifyOptions.record_problems`: fmax above its Nyquist
+    frequency, a channel it lacks), a channel with no vibration
     (:func:`no_vibration`: a constant, an exact linear drift, a dead sensor:
     otherwise round-off would yield stable-looking "modes"), and settings
     whose arrays would not fit in the available memory
@@ -219,31 +216,25 @@ def identify_record(
     Parameters
     ----------
     acc : array_like, shape (n_samples, n_channels)
+        The record, every channel (``options.channels`` picks those used).
     dt : float
         Sampling interval (s).
-    excitation : {"ambient", "free_decay"}
-    max_order : int
-        Largest model order (even).
-    fmax : float, optional
-        Highest frequency of interest (Hz).
-    rows : int, optional
-        Block rows; default ``max(60, ceil(2 max_order / n_channels))`` so
-        ``H(0)`` has at least twice ``max_order`` rows.
-    refs : sequence of int, optional
-        Reference channels of the correlations (ambient); default all.
-    highpass_hz : float, optional
+    options : IdentifyOptions or str
+        Every option of the identification (:class:`IdentifyOptions`); or
+        the excitation (``"ambient"``, ``"free_decay"``) with the other
+        options as ``keywords``.
     criteria : StabilityCriteria, optional
     log : callable, optional
         Receives one line per step (for progress messages).
     progress : callable, optional
         Passed to :func:`stabilisation`.
-    quantities : sequence of str, optional
-        What each channel measures (``"displacement"``, ``"velocity"``,
-        ``"acceleration"``), so channels of mixed quantities give one shape
-        (:func:`stabilisation`).
     channel_labels : sequence, optional
-        How messages name the channels (e.g. the record's channel numbers);
-        default their positions 0, 1, ...
+        How messages name the channels used; default the record's channel
+        numbers.
+    **keywords
+        Options (fields of :class:`IdentifyOptions`: ``max_order``, ``fmax``,
+        ``rows``, ``refs``, ``highpass_hz``, ``quantities``, ...) given one by
+        one, or replacing those of ``options``.
 
     Returns
     -------
@@ -255,20 +246,23 @@ def identify_record(
     from ..signals import decay_start, decimate, detrend, zero_phase_filter
 
     log = log or (lambda message: None)
-    if excitation not in EXCITATIONS:
-        raise ValueError(f"excitation must be one of {EXCITATIONS}, got {excitation!r}")
-    y = detrend(acc)  # a copy of the record, the only one of its size
-    _refuse_no_vibration(np.asarray(acc, dtype=float), y, channel_labels or range(y.shape[1]))
-    y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
+    options = identify_options(options, **keywords)
+    excitation, max_order, fmax, rows = options.excitation, options.max_order, options.fmax, options.rows
     dt = positive_float("dt", dt)
-    max_order = positive_int("max_order", max_order, minimum=2)
+    acc = np.asarray(acc)
+    if acc.ndim != 2:
+        raise ValueError(f"acc must be a record of shape (n_samples, n_channels), got shape {acc.shape}")
+    options.check_record(acc.shape[1], 1 / dt)
+    channels, refs = options.channel_choice(acc.shape[1])
+    if options.channels is not None:
+        acc = acc[:, channels]
+    labels = channels if channel_labels is None else list(channel_labels)
+    y = detrend(acc)  # a copy of the record, the only one of its size
+    _refuse_no_vibration(np.asarray(acc, dtype=float), y, labels)
+    y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     n_channels = y.shape[1]
     min_rows = max(60, math.ceil(2 * max_order / n_channels))
-    rows = None if rows is None else positive_int("rows", rows)
     if fmax is not None:
-        fmax = positive_float("fmax", fmax)
-        if fmax >= 0.5 / dt:
-            raise ValueError(f"fmax = {fmax} Hz must be below the Nyquist frequency {0.5 / dt:g} Hz")
         factor = int(1 / (dt * 2.5 * fmax))
         if factor >= 2:
             log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
@@ -290,9 +284,9 @@ def identify_record(
             log(f"lowest spectral peak {low:.4g} Hz: {rows} block rows span {rows * dt:.3g} s "
                 f"({AUTO_PERIODS} periods of it)" + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "")
                 + " (set --fmax and --rows to choose)")
-    if highpass_hz is not None:
-        log(f"high-pass at {highpass_hz:g} Hz")
-        y = zero_phase_filter(y, dt, highpass_hz=highpass_hz)
+    if options.highpass_hz is not None:
+        log(f"high-pass at {options.highpass_hz:g} Hz")
+        y = zero_phase_filter(y, dt, highpass_hz=options.highpass_hz)
     if excitation == "ambient":
         n_lags = 2 * rows + 1
         if n_lags > y.shape[0] // 2:
@@ -321,13 +315,12 @@ def identify_record(
         _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None)
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
-                           progress=progress, quantities=quantities, segments=segments)
+                           progress=progress, quantities=options.quantities, segments=segments)
     return result, dt
 
 
-def write_identification(record, out, excitation, channels=None, refs=None, max_order=60, fmax=None, rows=None,
-                         highpass_hz=None, title=None, log=None, progress=None,
-                         quantities=None) -> tuple[Stabilisation, float]:
+def write_identification(record, out, options: IdentifyOptions | str | None = None, *, title=None, log=None,
+                         progress=None, **keywords) -> tuple[Stabilisation, float]:
     """Identify a record's modes and write them to the folder ``out``.
 
     What ``modal identify`` and the workflow's measured records both do:
@@ -349,7 +342,10 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
       ``phase_deg``);
     - ``out/candidates.csv``: clusters that recur too rarely to be modes;
     - ``out/poles.csv``: every pole of the diagram;
-    - ``out/stabilisation.png``: the diagram (:func:`stabilisation_figure`).
+    - ``out/stabilisation.png``: the diagram (:func:`stabilisation_figure`);
+    - ``out/settings.json``: the options used (:meth:`IdentifyOptions.to_dict`),
+      the record's sampling rate and the one identified after decimation,
+      the package version.
 
     The folder is complete or untouched: ``out`` is checked first
     (:func:`check_output`: not the record itself, not a file or device, on a
@@ -364,15 +360,13 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
         As :func:`modal.read_record` returns it.
     out : str or Path
         Output folder (created).
-    excitation : {"ambient", "free_decay"}
-    channels : sequence of int, optional
-        The record's channels to use (0-based); default all.
-    refs : sequence of int, optional
-        Reference channels for the correlations, in the record's channel
-        numbering, among ``channels``; default all.
-    max_order, fmax, rows, highpass_hz, log, progress, quantities
-        As :func:`identify_record` (``quantities`` one per channel used);
-        ``max_order`` must be even.
+    options : IdentifyOptions or str
+        Every option (:class:`IdentifyOptions`; ``channels`` and ``refs`` in
+        the record's channel numbering, ``fs`` already applied when the
+        record was read); or the excitation with the options as ``keywords``,
+        as :func:`identify_record` takes them.
+    log, progress
+        As :func:`identify_record`.
     title : str, optional
         Title of the diagram.
 
@@ -394,34 +388,33 @@ def write_identification(record, out, excitation, channels=None, refs=None, max_
     """
     from ._output import check_output, staged_folder
 
-    channels, refs = channel_choice(record.acc.shape[1], channels, refs)
-    if max_order % 2:
-        raise ValueError(f"max_order must be even, got {max_order}")
+    options = identify_options(options, **keywords)
     out = check_output(out, inputs=[record.path] if getattr(record, "path", None) else [])
-    acc = record.acc[:, channels]
+    options.check_record(record.acc.shape[1], record.fs)
+    channels, _ = options.channel_choice(record.acc.shape[1])
     columns = shape_columns(record, channels)
     with staged_folder(out) as staging:
-        result, dt = identify_record(acc, record.dt, excitation, max_order=max_order, fmax=fmax,
-                                     rows=rows, refs=refs, highpass_hz=highpass_hz, log=log, progress=progress,
-                                     quantities=quantities, channel_labels=channels)
-        write_results(staging, result, dt, columns, fmax=fmax, title=title)
+        result, dt = identify_record(record.acc, record.dt, options, log=log, progress=progress)
+        write_results(staging, result, dt, columns, fmax=options.fmax, title=title)
+        write_settings(staging, options, record.dt, dt)
     return result, dt
 
 
-def channel_choice(n_channels, channels=None, refs=None) -> tuple[list[int], list[int] | None]:
-    """The record's channels used (default all) and the references as
-    positions among them, from ``refs`` given as the record's channel
-    numbers (one meaning everywhere); ``ValueError`` for a channel the
-    record lacks or a reference not among the channels used."""
-    channels = list(range(n_channels)) if channels is None else [int(c) for c in channels]
-    if not channels or min(channels) < 0 or max(channels) >= n_channels:
-        raise ValueError(f"channels {channels}: the record has channels 0 ... {n_channels - 1}")
-    if refs is not None:
-        missing = [r for r in refs if r not in channels]
-        if missing:
-            raise ValueError(f"refs {missing} are not among the channels used {channels}")
-        refs = [channels.index(r) for r in refs]
-    return channels, refs
+def write_settings(folder, options: IdentifyOptions, dt_record, dt) -> None:
+    """``folder/settings.json``: the options of an identification, the
+    record's sampling rate and the one identified (after decimation) and the
+    package's version: what reproduces the results beside it."""
+    import json
+    from importlib.metadata import PackageNotFoundError, version
+    from pathlib import Path
+
+    try:
+        package = version("modal-identification")
+    except PackageNotFoundError:  # run from a source tree that was not installed
+        package = None
+    settings = {"options": options.to_dict(), "fs_record_hz": 1 / dt_record, "fs_identified_hz": 1 / dt,
+                "decimation": round(dt / dt_record), "version": package}
+    (Path(folder) / "settings.json").write_text(json.dumps(settings, indent=2) + "\n")
 
 
 def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=None) -> None:

@@ -118,20 +118,39 @@ def check_setups(setups) -> list[tuple]:
     return keys
 
 
-def identify_setup(setup: Setup, excitation, **options) -> tuple[Stabilisation, float]:
+def identify_setup(setup: Setup, options=None, **keywords) -> tuple[Stabilisation, float]:
     """:func:`modal.identify_record` on a setup's channels, in SI units, with
     its reference channels as the correlations' references and each
-    channel's quantity (so mixed quantities give one shape)."""
-    from ..measured import identify_record
+    channel's quantity (so mixed quantities give one shape).
 
+    Parameters
+    ----------
+    setup : Setup
+    options : IdentifyOptions or str
+        The identification's options (or the excitation, the options as
+        ``keywords``, as :func:`modal.identify_record` takes them), without
+        ``channels``, ``refs`` and ``quantities``: the setup's channel table
+        says those.
+    **keywords
+        Options, and :func:`modal.identify_record`'s ``log``, ``progress``,
+        ``criteria``.
+    """
+    from ..measured import identify_options, identify_record
+
+    calls = {k: keywords.pop(k) for k in ("log", "progress", "criteria") if k in keywords}
+    options = identify_options(options, **keywords)
+    given = [name for name in ("channels", "refs", "quantities") if getattr(options, name) is not None]
+    if given:
+        raise ValueError(f"{', '.join(given)}: a setup's channel table says which channels are used, which are "
+                         "references and what they measure")
     t = setup.channels
     factors = np.array([unit_factor(q, u) for q, u in zip(t["quantity"], t["unit"])])
     acc = setup.record.acc[:, t["channel"].to_numpy()] * factors
     roles = t["role"].to_numpy()
     refs = None if (roles == "reference").all() or not (roles == "reference").any() else \
         [int(c) for c in np.flatnonzero(roles == "reference")]
-    return identify_record(acc, setup.record.dt, excitation, refs=refs, quantities=list(t["quantity"]),
-                           channel_labels=list(t["channel"]), **options)
+    options = options.replace(refs=refs, quantities=list(t["quantity"]))
+    return identify_record(acc, setup.record.dt, options, channel_labels=list(t["channel"]), **calls)
 
 
 @dataclass(frozen=True)

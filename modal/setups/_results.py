@@ -11,8 +11,8 @@ import pandas as pd
 from ._merge import MergedModes, identify_setup, merge_setups
 
 
-def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min=0.8, min_setups=None,
-                 animate=True, log: Callable[[str], None] | None = None, **options):
+def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_min=0.8, min_setups=None,
+                 animate=True, log: Callable[[str], None] | None = None, progress=None, **keywords):
     """Identify each setup, merge them (:func:`merge_setups`) and write
     ``out``:
 
@@ -37,26 +37,27 @@ def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min
     ----------
     setups : sequence of Setup
     out : str or Path
-    excitation : {"ambient", "free_decay"}
+    options : IdentifyOptions or str
+        The identification's options for every setup (:func:`identify_setup`;
+        or the excitation with the options as ``keywords``).
     geometry : Geometry, optional
     freq_rtol, mac_min, min_setups
         As :func:`merge_setups`.
     animate : bool
-    log : callable, optional
-    **options
-        Passed to :func:`modal.identify_record` (``fmax``, ``max_order``,
-        ``rows``, ``highpass_hz``, ``progress``, ...).
+    log, progress : callable, optional
+        As :func:`modal.identify_record`.
+    **keywords
+        Options (fields of :class:`modal.IdentifyOptions`) given one by one.
 
     Returns
     -------
     merged : MergedModes
     results : list of Stabilisation
     """
-    from ..measured import check_output
-    from ..measured._output import staged_folder
-    from ..measured._pipeline import write_results
+    from ..measured import check_output, identify_options, staged_folder, write_results, write_settings
 
     log = log or (lambda message: None)
+    options = identify_options(options, **keywords)
     setups = list(setups)
     out = check_output(out, inputs=[s.record.path for s in setups if getattr(s.record, "path", None)])
     results = []
@@ -65,7 +66,7 @@ def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min
             log(f"setup {setup.name}: {setup.record.acc.shape[0]} samples, {len(setup.channels)} channels "
                 f"({sum(setup.channels['role'] == 'reference')} references)")
             try:
-                result, dt = identify_setup(setup, excitation, log=lambda m: log("  " + m), **options)
+                result, dt = identify_setup(setup, options, log=lambda m: log("  " + m), progress=progress)
             except ValueError as exc:
                 raise ValueError(f"setup {setup.name}: {exc}") from None
             folder = staging / "setups" / setup.name
@@ -73,7 +74,8 @@ def write_setups(setups, out, excitation, geometry=None, freq_rtol=0.01, mac_min
             names = list(setup.channels["name"])
             columns = [f"phi_{n}" for n in names] if len(set(names)) == len(names) else \
                 [f"phi_{c}" for c in setup.channels["channel"]]
-            write_results(folder, result, dt, columns, fmax=options.get("fmax"), title=setup.name)
+            write_results(folder, result, dt, columns, fmax=options.fmax, title=setup.name)
+            write_settings(folder, options, setup.record.dt, dt)
             log(f"  {len(result.modes)} modes: " + ", ".join(f"{f:.4g}" for f in result.modes["freq_hz"]) + " Hz")
             results.append(result)
         merged = merge_setups(setups, results, freq_rtol=freq_rtol, mac_min=mac_min, min_setups=min_setups)

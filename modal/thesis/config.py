@@ -601,7 +601,10 @@ def path_problems(config: Mapping) -> list[str]:
 
 def measured_problems(key: str, spec: Mapping) -> list[str]:
     """Open one record of the ``measured`` list (:func:`modal.read_record`)
-    and check its channel and reference choices, before any job runs."""
+    and check its options against it (:class:`modal.IdentifyOptions`:
+    channels it has, fmax below its Nyquist frequency, ...), before any job
+    runs."""
+    from ..measured import IdentifyOptions
     from ..records import read_record
 
     if "setups" in spec:
@@ -612,33 +615,25 @@ def measured_problems(key: str, spec: Mapping) -> list[str]:
         record = read_record(spec["path"], spec.get("fs"))
     except ValueError as exc:
         return [f"{key}.path = {spec['path']!r}: {exc}"]
-    problems = []
-    n_channels = record.acc.shape[1]
-    channels = spec.get("channels") or list(range(n_channels))
-    for i, c in enumerate(spec.get("channels") or []):
-        if c >= n_channels:
-            problems.append(f"{key}.channels[{i}] = {c}: the record has {n_channels} channels (0..{n_channels - 1})")
-    # refs are the record's channel numbers, among those used (modal.write_identification)
-    for i, r in enumerate(spec.get("refs") or []):
-        if r not in channels:
-            problems.append(f"{key}.refs[{i}] = {r}: not among the channels used {channels} "
-                            "(refs are the record's channel numbers, like channels)")
-    nyquist = record.fs / 2
-    for name in ("fmax", "highpass_hz"):
-        value = spec.get(name)
-        if value is not None and value >= nyquist:
-            problems.append(f"{key}.{name} = {value} Hz must be below the Nyquist frequency {nyquist:g} Hz "
-                            f"(fs = {record.fs:g} Hz)")
-    if spec.get("fmax") is not None and spec.get("highpass_hz") is not None and spec["highpass_hz"] >= spec["fmax"]:
-        problems.append(f"{key}.highpass_hz = {spec['highpass_hz']} Hz must be below fmax = {spec['fmax']} Hz")
-    return problems
+    try:
+        options = IdentifyOptions.from_mapping(spec, other=["path"])
+    except ValueError as exc:
+        return [f"{key}.{exc}"]
+    return [f"{key}.{problem}" for problem in options.record_problems(record.acc.shape[1], record.fs)]
 
 
 def setups_problems(key: str, spec: Mapping) -> list[str]:
     """Read a roving test's setups and geometry (:func:`modal.read_setup`,
     :func:`modal.read_geometry`) and check that they share their reference
-    channels (:func:`modal.check_setups`), before any job runs."""
+    channels (:func:`modal.check_setups`), and the options they are
+    identified with, before any job runs."""
+    from ..measured import IdentifyOptions
     from ..setups import check_setups, read_geometry, read_setup
+
+    try:
+        options = IdentifyOptions.from_mapping(spec, other=["setups", "geometry", "min_setups"])
+    except ValueError as exc:
+        return [f"{key}.{exc}"]
 
     try:
         geometry = read_geometry(spec["geometry"]) if spec.get("geometry") else None
@@ -655,6 +650,9 @@ def setups_problems(key: str, spec: Mapping) -> list[str]:
             check_setups(setups)
         except ValueError as exc:
             problems.append(f"{key}.setups: {exc}")
+    for setup in setups if not problems else []:
+        problems += [f"{key}.setups ({setup.name}): {p}" for p in options.record_problems(setup.record.acc.shape[1],
+                                                                                          setup.record.fs)]
     return problems
 
 

@@ -1,5 +1,7 @@
 """A roving test's setups -> merged modes.csv, shapes.csv and the modes drawn
-(the same files as `modal identify SETUP ... --geometry`: modal.write_setups)."""
+(the same files as `modal identify SETUP ... --geometry`: modal.write_setups);
+the entry's keys other than `setups`, `geometry` and `min_setups` are the
+options of modal.IdentifyOptions."""
 from pathlib import Path
 
 from _helpers import start_job
@@ -8,10 +10,10 @@ import modal
 
 start_job(snakemake)
 spec = snakemake.params.spec
+options = modal.IdentifyOptions.from_mapping(spec, where="measured", other=["setups", "geometry", "min_setups"])
 geometry = modal.read_geometry(spec["geometry"])
-setups = [modal.read_setup(path, spec.get("fs"), geometry) for path in spec["setups"]]
+setups = [modal.read_setup(path, options.fs, geometry) for path in spec["setups"]]
 modal.write_setups(
-    setups, Path(snakemake.output.modes).parent, spec["excitation"], geometry=geometry,
-    min_setups=spec.get("min_setups"), animate=False, log=print, max_order=spec.get("max_order", 60),
-    fmax=spec.get("fmax"), rows=spec.get("rows"), highpass_hz=spec.get("highpass_hz"),
+    setups, Path(snakemake.output.modes).parent, options, geometry=geometry,
+    min_setups=spec.get("min_setups"), animate=False, log=print,
 )

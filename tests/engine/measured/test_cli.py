@@ -39,8 +39,11 @@ def test_cli_errors_and_exit_codes(tmp_path, capsys):
     np.save(short, np.random.default_rng(0).standard_normal((100, 2)))
     assert main(["identify", str(short), "--fs", "10", "--ambient", "--out", out]) == EXIT_CANNOT_IDENTIFY
     assert "longer record" in capsys.readouterr().err
-    assert main(["identify", str(short), "--fs", "10", "--ambient", "--channels", "0,5", "--out", out]) \
-        == EXIT_CANNOT_IDENTIFY
+    # options the record cannot take are bad options (2), found before any work
+    assert main(["identify", str(short), "--fs", "10", "--ambient", "--channels", "0,5", "--out", out]) == 2
+    assert "channels [5]: the record has channels 0 ... 1" in capsys.readouterr().err
+    assert main(["identify", str(short), "--fs", "10", "--ambient", "--fmax", "5", "--out", out]) == 2
+    assert "fmax = 5 Hz must be below the Nyquist frequency 5 Hz" in capsys.readouterr().err
     with pytest.raises(SystemExit) as exc:
         main(["identify", str(short), "--ambient", "--free-decay", "--out", out])
     assert exc.value.code == 2

@@ -2,6 +2,7 @@
 documented exit code and one line on stderr, never a traceback, and never
 with a half-written or clobbered results folder."""
 
+import json
 import os
 import resource
 import signal
@@ -171,8 +172,11 @@ def test_complete_results_replace_the_previous_ones(tmp_path, capsys):
     code, _, _ = _run(capsys, "identify", PALISADEN, *PALISADEN_OPTIONS, "--out", out)
     assert code == 0
     assert sorted(p.name for p in out.iterdir()) == ["candidates.csv", "complex_shapes.csv", "modes.csv", "notes.txt",
-                                                     "poles.csv", "stabilisation.png"]
+                                                     "poles.csv", "settings.json", "stabilisation.png"]
     assert len(pd.read_csv(out / "modes.csv")) >= 3
+    settings = json.loads((out / "settings.json").read_text())
+    assert settings["options"]["fmax"] == 5 and settings["options"]["highpass_hz"] == 0.5
+    assert settings["fs_record_hz"] == 20 and settings["decimation"] == 1
     _no_partial_files(tmp_path)
 
 

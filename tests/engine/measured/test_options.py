@@ -1,0 +1,200 @@
+"""IdentifyOptions: one home for every option of an identification.
+
+Every field is enumerated from the class (never a hand list), so a new option
+without its description, schema and example, or one dropped on the way from a
+campaign file, a workflow config, the command line or a roving setup to
+:func:`modal.identify_record`, turns these tests red.
+"""
+
+import dataclasses
+import math
+import runpy
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import yaml
+
+import modal
+import modal.measured._pipeline as pipeline
+import modal.thesis.config
+from modal.measured import MAX_ORDER, IdentifyOptions
+
+ROOT = Path(__file__).resolve().parents[3]
+FIELDS = dataclasses.fields(IdentifyOptions)
+EXAMPLES = {f.name: f.metadata["example"] for f in FIELDS}
+
+
+class Captured(Exception):
+    """Raised by the stand-in of identify_record once it has seen the options."""
+
+
+@pytest.fixture
+def capture(monkeypatch):
+    """Replace identify_record where every route calls it; the options it
+    receives are kept in the returned list (the call then stops)."""
+    seen = []
+
+    def stand_in(acc, dt, options=None, **keywords):
+        seen.append(modal.measured.identify_options(options, **{k: v for k, v in keywords.items()
+                                                                if k in IdentifyOptions.names()}))
+        raise Captured
+
+    monkeypatch.setattr(modal.measured, "identify_record", stand_in)
+    monkeypatch.setattr(pipeline, "identify_record", stand_in)
+    return seen
+
+
+@pytest.fixture
+def record(tmp_path):
+    """A 4-channel ``.npy`` record: its rate is what ``fs`` says."""
+    np.save(tmp_path / "rec.npy", np.random.default_rng(1).standard_normal((3000, 4)))
+    return tmp_path / "rec.npy"
+
+
+def test_every_field_is_documented_bounded_and_has_a_non_default_example():
+    for f in FIELDS:
+        assert f.metadata["help"] and f.metadata["schema"], f.name
+        default = None if f.default is dataclasses.MISSING else f.default
+        assert EXAMPLES[f.name] != default, f"{f.name}: the example must differ from the default"
+    options = IdentifyOptions(**EXAMPLES)  # the examples hold together
+    assert options.to_dict() == {k: list(v) if isinstance(v, tuple) else v for k, v in EXAMPLES.items()}
+    assert IdentifyOptions(excitation="ambient").max_order == MAX_ORDER == 60
+
+
+def test_the_workflow_schema_holds_the_options_schema():
+    schema = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
+    measured = schema["properties"]["measured"]["additionalProperties"]
+    assert {k: measured["properties"][k] for k in IdentifyOptions.names()} == \
+        IdentifyOptions.json_schema()["properties"]
+    assert "excitation" in measured["required"]
+
+
+def test_the_campaign_schema_is_the_options_schema():
+    from modal.campaign._config import SCHEMA
+
+    identify = SCHEMA["properties"]["identify"]
+    assert identify["properties"] == IdentifyOptions.json_schema()["properties"]
+    assert identify["required"] == ["excitation"] and identify["additionalProperties"] is False
+
+
+def test_the_docs_option_table_lists_every_option_with_its_key():
+    records = (ROOT / "docs/records.md").read_text()
+    for f in FIELDS:
+        if f.metadata["flag"]:
+            flag = f"`{f.metadata['flag']} {f.metadata['metavar']}`"
+        else:
+            flag = " / ".join(f"`--{v.replace('_', '-')}`" for v in f.metadata["schema"]["enum"])
+        assert f"| {flag} | `{f.name}` |" in records, f"docs/records.md: no row for {f.name}"
+
+
+@pytest.mark.parametrize("name", IdentifyOptions.names())
+def test_each_option_in_a_campaign_file_reaches_identify_record(name, tmp_path, record, capture):
+    given = {"excitation": "ambient", "fs": 100.0, name: EXAMPLES[name]}
+    identify = {k: list(v) if isinstance(v, tuple) else v for k, v in given.items()}
+    (tmp_path / "index.csv").write_text("path,time\nrec.npy,2025-01-01 00:00\n")
+    (tmp_path / "c.yaml").write_text(yaml.safe_dump({"records": {"index": "index.csv"}, "identify": identify}))
+    config, index = modal.campaign.read_campaign(tmp_path / "c.yaml")
+    with pytest.raises(Captured):
+        modal.campaign.identify_one(index["path"][0], config["identify"])
+    received = capture[0]
+    assert getattr(received, name) == EXAMPLES[name]
+    assert received == IdentifyOptions(**given)  # and nothing else changed
+
+
+def test_every_option_in_a_workflow_config_reaches_identify_record(tmp_path, record, capture, monkeypatch):
+    spec = {"path": str(record), **{k: list(v) if isinstance(v, tuple) else v for k, v in EXAMPLES.items()}}
+    schema = yaml.safe_load((ROOT / "workflow/schemas/config.schema.yaml").read_text())
+    import jsonschema
+
+    jsonschema.validate({"x": spec}, schema["properties"]["measured"])
+    assert modal.thesis.config.measured_problems("measured.x", spec) == []
+    job = SimpleNamespace(params=SimpleNamespace(spec=spec), input=SimpleNamespace(record=str(record)),
+                          output=SimpleNamespace(modes=str(tmp_path / "out" / "modes.csv")), threads=1,
+                          log=[str(tmp_path / "job.log")])
+    monkeypatch.setattr(sys, "stderr", sys.stderr)  # the job sends it to its log
+    monkeypatch.syspath_prepend(str(ROOT / "workflow/scripts"))
+    try:
+        with pytest.raises(Captured):
+            runpy.run_path(str(ROOT / "workflow/scripts/measured.py"), init_globals={"snakemake": job})
+    finally:
+        if sys.stderr is not sys.__stderr__ and getattr(sys.stderr, "name", "") == job.log[0]:
+            sys.stderr.close()
+    assert capture[0] == IdentifyOptions(**EXAMPLES)
+
+
+def test_every_option_on_the_command_line_reaches_identify_record(tmp_path, record, capture):
+    from modal.cli import main
+
+    argv = ["identify", str(record), "--out", str(tmp_path / "o"), "--quiet"]
+    for f in FIELDS:
+        value = EXAMPLES[f.name]
+        if f.metadata["flag"] is None:
+            argv.append(f"--{value.replace('_', '-')}")
+        else:
+            argv += [f.metadata["flag"], ",".join(map(str, value)) if isinstance(value, tuple) else str(value)]
+    assert main(argv) == 1, "the stand-in stops the identification (an internal error)"
+    assert capture[0] == IdentifyOptions(**EXAMPLES)
+
+
+def test_a_roving_setup_is_identified_with_the_options_and_its_own_channels(capture):
+    plate = modal.SimplySupportedPlate(1.2, 0.8, 20.0, 10.0)
+    setup = modal.plate_roving_test(plate, duration=20.0)[0][1]
+    given = {k: v for k, v in EXAMPLES.items() if k not in ("channels", "refs", "quantities")}
+    with pytest.raises(Captured):
+        modal.identify_setup(setup, IdentifyOptions(**given))
+    received = capture[0]
+    roles = setup.channels["role"].to_numpy()
+    assert received == IdentifyOptions(**given).replace(
+        refs=[int(c) for c in np.flatnonzero(roles == "reference")], quantities=list(setup.channels["quantity"]))
+    with pytest.raises(ValueError, match="channels: a setup's channel table says"):
+        modal.identify_setup(setup, IdentifyOptions(excitation="ambient", channels=[0]))
+
+
+@pytest.mark.parametrize("changes, message", [
+    ({"excitation": "forced"}, "excitation must be one of ambient, free_decay"),
+    ({"max_order": 41}, "max_order must be even"),
+    ({"max_order": 0}, "max_order must be at least 2"),
+    ({"max_order": True}, "max_order must be an integer"),
+    ({"rows": 30.0}, "rows must be an integer"),
+    ({"fmax": math.nan}, "fmax must be a positive finite number"),
+    ({"fmax": -1.0}, "fmax must be a positive finite number"),
+    ({"highpass_hz": 5.0, "fmax": 5.0}, "highpass_hz = 5 Hz must be below fmax = 5 Hz"),
+    ({"highpass_hz": 6.0, "fmax": 5.0}, "highpass_hz = 6 Hz must be below fmax"),
+    ({"channels": [0, 1], "refs": [2]}, r"refs \[2\] are not among the channels used \[0, 1\]"),
+    ({"channels": [0, 0]}, "names a channel twice"),
+    ({"channels": [0, 1], "quantities": ["velocity"]}, "one quantity per channel used"),
+    ({"quantities": ["speed"]}, "quantities must name one of"),
+    ({"fs": 10.0, "fmax": 5.0}, "fmax = 5 Hz must be below the Nyquist frequency 5 Hz"),
+])
+def test_contradictions_are_refused_with_the_option_named(changes, message):
+    with pytest.raises(ValueError, match=message):
+        IdentifyOptions(**{"excitation": "ambient", **changes})
+
+
+def test_what_holds_just_inside_the_bounds():
+    options = IdentifyOptions(excitation="ambient", fs=10.0, fmax=4.999, highpass_hz=4.99, max_order=2, rows=1,
+                              channels=[3, 1], refs=[1], quantities=["velocity", "acceleration"])
+    assert options.channel_choice(4) == ([3, 1], [1])  # refs as positions among the channels used
+    assert options.record_problems(4, 10.0) == []
+    assert options.record_problems(3, 10.0) == ["channels [3]: the record has channels 0 ... 2"]
+    assert options.record_problems(4, 9.99) == [
+        "fmax = 4.999 Hz must be below the Nyquist frequency 4.995 Hz (fs = 9.99 Hz)"]
+    assert options.record_problems(4, 9.98) == [
+        "fmax = 4.999 Hz must be below the Nyquist frequency 4.99 Hz (fs = 9.98 Hz)",
+        "highpass_hz = 4.99 Hz must be below the Nyquist frequency 4.99 Hz (fs = 9.98 Hz)"]
+    assert IdentifyOptions(excitation="ambient", quantities=["velocity"]).record_problems(2, 10.0) == [
+        "quantities names 1 channels, the identification uses 2"]
+
+
+def test_from_mapping_names_the_key():
+    with pytest.raises(ValueError, match=r"c.yaml: identify.maxorder: not an option"):
+        IdentifyOptions.from_mapping({"excitation": "ambient", "maxorder": 4}, where="c.yaml: identify")
+    with pytest.raises(ValueError, match=r"here.excitation: required"):
+        IdentifyOptions.from_mapping({"fmax": 4}, where="here")
+    with pytest.raises(ValueError, match=r"here.max_order must be even"):
+        IdentifyOptions.from_mapping({"excitation": "ambient", "max_order": 3}, where="here")
+    kept = IdentifyOptions.from_mapping({"excitation": "ambient", "path": "x", "fmax": None}, other=["path"])
+    assert kept == IdentifyOptions(excitation="ambient")
