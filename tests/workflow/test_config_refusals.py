@@ -137,14 +137,19 @@ def test_nonfinite_from_yaml_text(tmp_path, monkeypatch):
     assert "beams.beam5.length = nan" in message and "grid.test.fs = inf" in message
 
 
-@pytest.mark.parametrize("key, value, fragment", [
-    ("fmax", 10, "measured.palisaden.fmax = 10 Hz must be below the Nyquist frequency 10 Hz"),
-    ("fmax", 25.0, "measured.palisaden.fmax = 25.0 Hz must be below the Nyquist"),
-    ("highpass_hz", 10.5, "measured.palisaden.highpass_hz = 10.5 Hz must be below the Nyquist"),
-    ("highpass_hz", 6, "measured.palisaden.highpass_hz = 6 Hz must be below fmax = 5 Hz"),
+@pytest.mark.parametrize("changes, fragment", [
+    ({"fmax": 10}, "measured.palisaden.fmax = 10 Hz must be below the Nyquist frequency 10 Hz"),
+    ({"fmax": 25.0}, "measured.palisaden.fmax = 25 Hz must be below the Nyquist"),
+    ({"fmax": None, "highpass_hz": 10.5}, "measured.palisaden.highpass_hz = 10.5 Hz must be below the Nyquist"),
+    ({"highpass_hz": 6}, "measured.palisaden.highpass_hz = 6 Hz must be below fmax = 5 Hz"),
+    ({"channels": [0, 9]}, "measured.palisaden.channels [9]: the record has channels 0 ... 5"),
+    ({"quantities": ["velocity"]}, "measured.palisaden.quantities names 1 channels, the identification uses 6"),
 ])
-def test_measured_cutoffs_at_or_above_nyquist_refused(key, value, fragment, monkeypatch):
-    assert fragment in refusal(set_key(base_config(), f"measured.palisaden.{key}", value), monkeypatch)
+def test_measured_options_the_record_cannot_take_refused(changes, fragment, monkeypatch):
+    config = base_config()
+    for key, value in changes.items():
+        config = set_key(config, f"measured.palisaden.{key}", value)
+    assert fragment in refusal(config, monkeypatch)
 
 
 @pytest.mark.parametrize("name", ["x" * 65, "a/b", "../up", "a b", "_x"])
@@ -211,7 +216,7 @@ def test_refs_are_record_channel_numbers(monkeypatch):
     monkeypatch.chdir(ROOT)
     mc.check_workflow_config(copy.deepcopy(config), [], SCHEMA)  # refs 4, 5 are channels used
     config["measured"]["palisaden"]["refs"] = [0]
-    assert "measured.palisaden.refs[0] = 0: not among the channels used [3, 4, 5]" in refusal(config, monkeypatch)
+    assert "measured.palisaden.refs [0] are not among the channels used [3, 4, 5]" in refusal(config, monkeypatch)
 
 
 # --- 7. table titles as written: ζ and η ----------------------------------------------------
