@@ -130,7 +130,7 @@ def _identify_options(cmd) -> None:
             group = cmd.add_mutually_exclusive_group(required=f.default is dataclasses.MISSING)
             for value in schema["enum"]:
                 group.add_argument(f"--{value.replace('_', '-')}", dest=f.name, action="store_const", const=value,
-                                   help=f"{f.name} {value}: {help}")
+                                   help=f.metadata["choices"][value])
             continue
         kind = schema["type"][0] if isinstance(schema["type"], list) else schema["type"]
         if kind == "array":

@@ -24,10 +24,12 @@ QUANTITY_NAMES = ("displacement", "velocity", "acceleration")
 MAX_ORDER = 60
 
 
-def _option(default, help, schema, example, flag=None, metavar=None):
+def _option(default, help, schema, example, flag=None, metavar=None, choices=None):
     """A field of :class:`IdentifyOptions` with what the command line, the
-    schemas and the docs need to know about it."""
-    metadata = {"help": help, "schema": schema, "example": example, "flag": flag, "metavar": metavar}
+    schemas and the docs need to know about it (``choices``: the help of each
+    value of an option that the command line gives as one flag per value)."""
+    metadata = {"help": help, "schema": schema, "example": example, "flag": flag, "metavar": metavar,
+                "choices": choices}
     if default is dataclasses.MISSING:
         return field(metadata=metadata)
     return field(default=default, metadata=metadata)
@@ -79,7 +81,9 @@ class IdentifyOptions:
 
     excitation: str = _option(
         dataclasses.MISSING, "output-only (operational) record, or an impact test (the decay after the impact)",
-        {"enum": list(EXCITATIONS)}, "free_decay")
+        {"enum": list(EXCITATIONS)}, "free_decay",
+        choices={"ambient": "output-only (operational) record: NExT correlations of the response",
+                 "free_decay": "impact test: the decay after the impact (found automatically)"})
     fs: float | None = _option(
         None, "sampling rate (Hz); overrides the record's own rate or time column (needed for .npy)",
         {"type": ["number", "null"], "exclusiveMinimum": 0}, 50.0, "--fs", "HZ")

@@ -57,6 +57,8 @@ def record(tmp_path):
 def test_every_field_is_documented_bounded_and_has_a_non_default_example():
     for f in FIELDS:
         assert f.metadata["help"] and f.metadata["schema"], f.name
+        if f.metadata["flag"] is None:  # one flag per value: each value has its help
+            assert sorted(f.metadata["choices"]) == sorted(f.metadata["schema"]["enum"]), f.name
         default = None if f.default is dataclasses.MISSING else f.default
         assert EXAMPLES[f.name] != default, f"{f.name}: the example must differ from the default"
     options = IdentifyOptions(**EXAMPLES)  # the examples hold together
