@@ -178,10 +178,11 @@ def test_contradictions_are_refused_with_the_option_named(changes, message):
 
 def test_what_holds_just_inside_the_bounds():
     options = IdentifyOptions(excitation="ambient", fs=10.0, fmax=4.999, highpass_hz=4.99, max_order=2, rows=1,
-                              channels=[3, 1], refs=[1], quantities=["velocity", "acceleration"])
-    assert options.channel_choice(4) == ([3, 1], [1])  # refs as positions among the channels used
+                              channels=[3, 1], refs=[3], quantities=["velocity", "acceleration"])
+    assert options.channel_choice(4) == ([3, 1], [0])  # refs as positions among the channels used
     assert options.record_problems(4, 10.0) == []
-    assert options.record_problems(3, 10.0) == ["channels [3]: the record has channels 0 ... 2"]
+    assert options.record_problems(3, 10.0) == ["channels [3]: the record has channels 0 ... 2",
+                                                 "refs [3]: the record has channels 0 ... 2"]
     assert options.record_problems(4, 9.99) == [
         "fmax = 4.999 Hz must be below the Nyquist frequency 4.995 Hz (fs = 9.99 Hz)"]
     assert options.record_problems(4, 9.98) == [
@@ -200,3 +201,23 @@ def test_from_mapping_names_the_key():
         IdentifyOptions.from_mapping({"excitation": "ambient", "max_order": 3}, where="here")
     kept = IdentifyOptions.from_mapping({"excitation": "ambient", "path": "x", "fmax": None}, other=["path"])
     assert kept == IdentifyOptions(excitation="ambient")
+
+
+def test_channels_and_refs_are_the_records_numbers():
+    """identify_record on the whole record with channels [2, 0, 1] and refs [0]
+    is identify_record on those columns with the reference at position 1."""
+    from ..cases import ambient_beam
+
+    acc, dt, f_exact = ambient_beam()
+    acc = acc[:, :3]
+    chosen = IdentifyOptions(excitation="ambient", channels=[2, 0, 1], refs=[0], max_order=12,
+                             fmax=f_exact[1] * 1.3)
+    result, _ = modal.identify_record(acc, dt, chosen)
+    by_hand, _ = modal.identify_record(acc[:, [2, 0, 1]], dt, "ambient", refs=[1], max_order=12,
+                                       fmax=f_exact[1] * 1.3)
+    assert result.shapes.shape[0] == 3 and len(result.modes) >= 1
+    np.testing.assert_array_equal(result.modes["freq_hz"], by_hand.modes["freq_hz"])
+    np.testing.assert_array_equal(result.shapes, by_hand.shapes)
+    other_ref, _ = modal.identify_record(acc[:, [2, 0, 1]], dt, "ambient", refs=[0], max_order=12,
+                                         fmax=f_exact[1] * 1.3)
+    assert not np.array_equal(other_ref.modes["freq_hz"], result.modes["freq_hz"])
