@@ -14,9 +14,12 @@ from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
 from ._result import FLAGS, ModalResult, ModalWarning
-from ._stabilisation import Stabilisation, StabilityCriteria, segment_std, stabilisation
+from ._stabilisation import QUANTITIES, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
+# QUANTITIES (what a channel may measure) and segment_std are importable from here for the
+# other subpackages (a channel table checks its quantities against QUANTITIES); the names
+# below are also re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "Stabilisation", "StabilityCriteria", "align_shapes", "cera",
     "decompose", "era", "hankel", "mac", "modal_amplitude_coherence", "modal_phase_collinearity",

@@ -8,7 +8,7 @@ import scipy.linalg
 from .._checks import constant_channels, finite_array, positive_float, positive_int, unit_scale
 from ._result import (ModalResult, ModalWarning, near_limit, normalise_shapes, short_window, sort_modes, warn_flags,
                      warn_not_free_response)
-from ..signals._filters import acceleration_offset, integrate_acceleration
+from ..signals import acceleration_offset, integrate_acceleration
 
 
 def correlation(a, b) -> np.ndarray:

@@ -27,7 +27,7 @@ import numpy as np
 import pandas as pd
 
 from .._checks import finite_array, positive_float
-from ..identification._result import ModalWarning
+from ..identification import ModalWarning
 
 #: Relative tolerance on the uniformity of a CSV time column and on the
 #: agreement of sampling rates given twice.

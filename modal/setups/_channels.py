@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..identification._stabilisation import QUANTITIES
+from ..identification import QUANTITIES
 
 COLUMNS = ["channel", "name", "node", "x", "y", "z", "quantity", "unit", "role"]
 ROLES = ("reference", "roving")
