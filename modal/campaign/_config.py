@@ -131,7 +131,27 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     repeated = index["record"][index["record"].duplicated()].tolist()
     if repeated:
         raise ValueError(f"{path}: records: {repeated[0]} listed twice")
-    return config, index.sort_values(["time", "record"], kind="stable").reset_index(drop=True)
+    index = index.sort_values(["time", "record"], kind="stable").reset_index(drop=True)
+    _refuse_options_no_record_takes(path, IdentifyOptions.from_mapping(config["identify"]), index)
+    return config, index
+
+
+def _refuse_options_no_record_takes(path, options, index) -> None:
+    """Options the campaign's first readable record cannot take (fmax above
+    its Nyquist frequency, a channel it lacks: :meth:`IdentifyOptions.record_problems`)
+    would fail every record alike: refused before any job. A record that
+    cannot be read is left to its job (it lands in ``failed.csv``)."""
+    from ..records import read_record
+
+    for record_path, name in zip(index["path"], index["record"]):
+        try:
+            record = read_record(record_path, options.fs)
+        except (ValueError, OSError):
+            continue
+        problems = options.record_problems(record.acc.shape[1], record.fs)
+        if problems:
+            raise ValueError(f"{path}: identify.{problems[0]} (record {name}, the first that reads)")
+        return
 
 
 def _read_index(index_path: Path, base: Path) -> pd.DataFrame:

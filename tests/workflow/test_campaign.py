@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import modal
 import modal.campaign
 from modal.campaign import read_campaign, reference_modes, simulate_campaign, track_modes
 from modal.cli import main as cli
@@ -107,7 +108,25 @@ def test_campaign_file_refusals(tmp_path, capsys):
             "tracking.freq_rtol")
     (tmp_path / "i.csv").write_text("path,time\na.npy,noon\n")
     refused("records: {index: i.csv}\nidentify: {excitation: ambient}\n", "row 2: time 'noon' is not a date")
+    # Settings every record would fail alike: refused before any job (the first
+    # record that reads is checked; one that does not is left to its job).
+    modal.save_record_npz(tmp_path / "b.npz", np.random.default_rng(0).standard_normal((2000, 3)), 0.05)
+    (tmp_path / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\nb.npz,2025-01-02\n")
+    (tmp_path / "broken.npz").write_text("not a record")
+    base = "records: {index: i.csv}\nidentify: {excitation: ambient, "
+    refused(base + "fmax: 10}\n", "identify.fmax = 10 Hz must be below the Nyquist frequency 10 Hz (fs = 20 Hz) "
+                                  "(record b.npz, the first that reads)")
+    refused(base + "channels: [0, 3]}\n", "identify.channels [3]: the record has channels 0 ... 2")
+    refused(base + "fmax: 5, highpass_hz: 5}\n", "identify.highpass_hz = 5 Hz must be below fmax = 5 Hz")
+    refused(base + "rows: 30.0}\n", "identify.rows must be an integer, got 30.0")
+    assert read_campaign_ok(tmp_path, base + "fmax: 9.9}\n")
     assert not (tmp_path / "out").exists()
+
+
+def read_campaign_ok(folder, text) -> bool:
+    (folder / "c.yaml").write_text(text)
+    config, index = read_campaign(folder / "c.yaml")
+    return config["identify"]["fmax"] == 9.9 and len(index) == 2
 
 
 def test_glob_with_times_in_the_names(tmp_path):
