@@ -34,7 +34,15 @@ modal.thesis.config.check_workflow_config(
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/beam.smk"
-include: "workflow/rules/search.smk"
+
+
+# The searches of unstated settings are parameter studies (minutes of CPU):
+# only with `run_searches: true` (common.smk).
+if RUN_SEARCHES:
+
+    include: "workflow/rules/search.smk"
+
+
 include: "workflow/rules/grid.smk"
 include: "workflow/rules/measured.smk"
 include: "workflow/rules/report.smk"
@@ -44,5 +52,6 @@ rule all:
     input:
         beam_outputs(),
         grid_outputs(),
+        search_outputs(),
         measured_outputs(),
         report_outputs(),

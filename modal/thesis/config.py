@@ -213,9 +213,18 @@ def check_workflow_config(config: dict, configfiles, schema) -> None:
         check_run_name(config, configfiles[0])
 
 
+#: Keys that may differ from the default config in the default run: they
+#: choose which outputs a run computes, not their content. ``run_searches``
+#: recomputes the committed results/tables/searches.csv from the default config.
+SAME_OUTPUTS = ("run_searches",)
+
+#: What the summary and the report cite when a run does not compute the searches.
+COMMITTED_SEARCHES = "results/tables/searches.csv"
+
+
 def check_run_name(config: Mapping, default_file) -> None:
     """Refuse a config that differs from the default (``default_file``,
-    ``config/config.yaml``) but keeps the run ``default``, whose outputs
+    ``config/config.yaml``), apart from :data:`SAME_OUTPUTS`, but keeps the run ``default``, whose outputs
     overwrite ``results/``, where this folder's git commits the thesis's
     tables (``results/tables``). A parameter study names its run instead
     (``--config run=<name>`` or ``run: <name>`` in its file) and writes
@@ -231,7 +240,8 @@ def check_run_name(config: Mapping, default_file) -> None:
         return
     default = load_strict(default_file)
     normalise_numbers(default)
-    changed = sorted(set(_flat(default).items()) ^ set(_flat(config).items()))
+    changed = sorted((key, value) for key, value in set(_flat(default).items()) ^ set(_flat(config).items())
+                     if key not in SAME_OUTPUTS)
     if not changed or not _committed("results/tables"):
         return
     keys = sorted({key for key, _ in changed})
@@ -502,7 +512,8 @@ def _n_chunks(seeds: Mapping) -> int:
 
 def plan_problems(config: Mapping) -> list[str]:
     """A plan of more than :data:`MAX_IDENTIFY_JOBS` identification jobs
-    (noisy studies x interpretations x seed chunks, plus the grid's chunks),
+    (noisy studies x interpretations x seed chunks, plus the grid's chunks
+    and, with ``run_searches``, the search settings),
     refused before Snakemake builds it."""
     n_beam = 0
     for study in config["studies"].values():
@@ -511,7 +522,7 @@ def plan_problems(config: Mapping) -> list[str]:
     grid = config.get("grid")
     n_grid = _n_chunks(grid["seeds"]) if grid and grid["source"] == "virtual" else (1 if grid else 0)
     n_search = sum(math.prod(len(values) for values in search["vary"].values())
-                   for search in config.get("searches", {}).values())
+                   for search in config.get("searches", {}).values()) if config.get("run_searches") else 0
     if n_beam + n_grid + n_search > MAX_IDENTIFY_JOBS:
         return [f"seeds: the plan would hold {n_beam + n_grid + n_search} identification jobs ({n_beam} beam, "
                 f"{n_grid} grid, {n_search} search settings), more than {MAX_IDENTIFY_JOBS}: raise seeds.chunk / "
@@ -596,6 +607,9 @@ def path_problems(config: Mapping) -> list[str]:
             problems.append(f"grid.measured.path = {measured['path']!r}: no such file (relative to {Path.cwd()})")
     for name, spec in (config.get("measured") or {}).items():
         problems += measured_problems(f"measured.{name}", spec)
+    if config.get("searches") and not config.get("run_searches") and not Path(COMMITTED_SEARCHES).is_file():
+        problems.append(f"run_searches = false cites the committed {COMMITTED_SEARCHES}: no such file (relative "
+                        f"to {Path.cwd()}); compute it once with --config run_searches=True")
     return problems
 
 

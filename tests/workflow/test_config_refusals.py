@@ -264,9 +264,30 @@ def test_changed_config_without_run_name_refused_where_tables_are_committed(git_
     mc.check_run_name(unchanged, default)  # the default config regenerates the committed tables
 
 
+def test_computing_the_searches_needs_no_run_name(git_tree, monkeypatch):
+    """run_searches recomputes the default config's committed searches table."""
+    default = ROOT / "config/config.yaml"
+    config = {**base_config(), "run_searches": True}
+    mc.normalise_numbers(config)
+    monkeypatch.chdir(git_tree)
+    mc.check_run_name(config, default)
+    with pytest.raises(ValueError, match=r"\(seeds.count\)"):
+        mc.check_run_name(set_key(config, "seeds.count", 7), default)
+
+
+def test_searches_not_computed_cite_the_committed_table(tmp_path, monkeypatch):
+    config = base_config()
+    assert config["run_searches"] is False  # the default: a regeneration computes no search
+    monkeypatch.chdir(tmp_path)
+    missing = "run_searches = false cites the committed results/tables/searches.csv: no such file"
+    assert any(missing in p for p in mc.path_problems(config))
+    assert not any(missing in p for p in mc.path_problems({**config, "run_searches": True}))
+    assert not any(missing in p for p in mc.path_problems({**config, "searches": {}}))
+
+
 def test_changed_config_without_run_name_refused_by_snakemake(tmp_path):
     work = copy_project(tmp_path)
-    (work / "results/tables").mkdir(parents=True)
+    (work / "results/tables").mkdir(parents=True, exist_ok=True)
     (work / "results/tables/table_01.csv").write_text("mode\n1\n")
     for args in (["init", "-q"], ["add", "results"], ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "t"]):
         subprocess.run(["git", *args], cwd=work, check=True, capture_output=True)
@@ -321,5 +342,6 @@ def test_search_settings_count_in_the_plan(monkeypatch):
     config = base_config()
     config["searches"] = {f"probe{k}": {"question": "q", "study": "demo", "tables": [3],
                                         "vary": {"methods.era.cols": list(range(100, 500))}} for k in range(30)}
+    config["run_searches"] = True
     message = refusal(config, monkeypatch)
     assert "12000 search settings" in message, message

@@ -145,6 +145,7 @@ def test_chunked_run_as_separate_processes_equals_the_local_run(small_workflow, 
 
 
 # --- run names --------------------------------------------------------------------------
+@pytest.mark.slow
 def test_named_run_never_touches_the_committed_tables(tmp_path):
     work = copy_project(tmp_path)
     shutil.copytree(ROOT / "results/tables", work / "results/tables")

@@ -7,8 +7,11 @@ older time (``cp -p``, an unpacked archive) is not missed."""
 import os
 
 import numpy as np
+import pytest
 
 from workflow_run import copy_project, run_snakemake
+
+pytestmark = pytest.mark.slow
 
 RECORD = "tests/data/palisaden_20hz_30min.npy"
 TARGET = "results/measured/palisaden/modes.csv"

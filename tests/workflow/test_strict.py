@@ -19,7 +19,8 @@ import yaml
 
 import modal.thesis.config as mc
 from modal.thesis.intermediates import read_grid_identified, read_identified, read_interpretations, read_selection
-from workflow_run import DELETE, ROOT, SMALL_CONFIG_FILE, base_config, copy_project, run_snakemake, set_key
+from workflow_run import (DELETE, ROOT, SMALL_CONFIG_FILE, base_config, regenerate, regenerate_project, run_snakemake,
+                          set_key)
 
 SCHEMA = ROOT / "workflow/schemas/config.schema.yaml"
 
@@ -319,24 +320,8 @@ def test_stale_lock_is_cleared_and_live_run_is_reported(tmp_path):
     assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
 
 
-def regenerate_project(dest):
-    """A project copy whose ``.venv`` points at this interpreter (run with
-    ``SETUP_SKIP=1``), so ``bash workflow/regenerate.sh`` runs as a user would."""
-    work = copy_project(dest)
-    (work / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
-    bin_ = work / ".venv/bin"
-    bin_.mkdir(parents=True)
-    for name, command in (("python", [sys.executable]), ("snakemake", [sys.executable, "-m", "snakemake"])):
-        (bin_ / name).write_text("#!/bin/sh\nexec " + " ".join(command) + ' "$@"\n')
-        (bin_ / name).chmod(0o755)
-    return work
-
-
-def regenerate(work, **kwargs):
-    env = {**os.environ, "CORES": "2", "SETUP_SKIP": "1"}  # the wrapper .venv is the environment
-    return subprocess.Popen(["bash", "workflow/regenerate.sh", *FAULT_TARGETS, "--configfile", SMALL_CONFIG_FILE],
-                            cwd=work, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                            start_new_session=True, **kwargs)
+def regenerate_small(work):
+    return regenerate(work, *FAULT_TARGETS, "--configfile", SMALL_CONFIG_FILE)
 
 
 @pytest.mark.parametrize("sig, seed", [(signal.SIGKILL, 13), (signal.SIGINT, 14)])
@@ -347,16 +332,16 @@ def test_interrupted_run_resumes_with_the_main_command(small_workflow, tmp_path,
     alive, a second is refused with a clear message."""
     work = regenerate_project(tmp_path)
     delay = random.Random(seed).uniform(3.0, 15.0)
-    first = regenerate(work)
+    first = regenerate_small(work)
     time.sleep(delay)
     if first.poll() is None:
-        second = regenerate(work)
+        second = regenerate_small(work)
         out, _ = second.communicate(timeout=120)
         assert second.returncode == 3, out
         assert "Another" in out and "regenerate.sh" in out
         os.killpg(first.pid, sig)
     first.communicate(timeout=120)
-    resumed = regenerate(work)
+    resumed = regenerate_small(work)
     out, _ = resumed.communicate(timeout=600)
     assert resumed.returncode == 0, out[-3000:]
     for target in FAULT_TARGETS:

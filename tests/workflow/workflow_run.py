@@ -1,6 +1,7 @@
 """Helpers of the workflow tests: the project root, a copy of the project
 as a fresh clone would have it, and snakemake run with this interpreter."""
 
+import os
 import shutil
 import subprocess
 import sys
@@ -11,19 +12,45 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 #: The small test config (YAML, layered over config/config.yaml).
 SMALL_CONFIG_FILE = "config/test/config.small.yaml"
-#: What a clone holds that the workflow reads (results/ is generated).
-PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data")
+#: What a clone holds that the workflow reads: results/ is generated, but for
+#: the committed searches' summary, which a run that does not compute the
+#: searches (config run_searches) cites.
+PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data",
+                 "results/tables/searches.csv")
 
 
 def copy_project(dest: Path) -> Path:
-    """Copy the project's workflow files (no results, no caches) to ``dest``."""
+    """Copy the project's workflow files (no results but the committed
+    searches' summary, no caches) to ``dest``."""
     for item in PROJECT_ITEMS:
         src = ROOT / item
         if src.is_dir():
             shutil.copytree(src, dest / item, ignore=shutil.ignore_patterns("__pycache__"))
         elif src.exists():
+            (dest / item).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy(src, dest / item)
     return dest
+
+
+def regenerate_project(dest: Path) -> Path:
+    """A project copy whose ``.venv`` points at this interpreter (run with
+    ``SETUP_SKIP=1``), so ``bash workflow/regenerate.sh`` runs as a user would."""
+    work = copy_project(dest)
+    (work / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
+    bin_ = work / ".venv/bin"
+    bin_.mkdir(parents=True)
+    for name, command in (("python", [sys.executable]), ("snakemake", [sys.executable, "-m", "snakemake"])):
+        (bin_ / name).write_text("#!/bin/sh\nexec " + " ".join(command) + ' "$@"\n')
+        (bin_ / name).chmod(0o755)
+    return work
+
+
+def regenerate(work, *args, **kwargs) -> subprocess.Popen:
+    """``bash workflow/regenerate.sh *args`` in a :func:`regenerate_project`
+    copy, on 2 cores, started (output in ``stdout``, the process a group of its own)."""
+    env = {**os.environ, "CORES": "2", "SETUP_SKIP": "1"}  # the wrapper .venv is the environment
+    return subprocess.Popen(["bash", "workflow/regenerate.sh", *args], cwd=work, env=env, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True, start_new_session=True, **kwargs)
 
 
 def run_snakemake(workdir, *args, check=True, timeout=900):

@@ -213,8 +213,13 @@ def beam_outputs():
 
 
 # --- searches of unstated settings (search.smk) ------------------------------------
+# Parameter studies: computed only with `run_searches: true` (the Snakefile
+# includes search.smk then); otherwise the summary and the report cite the
+# committed table, a raw input like the published values.
 SEARCHES = sorted(config.get("searches", {}))
+RUN_SEARCHES = bool(SEARCHES) and config.get("run_searches", False)
 SEARCH_SUMMARY = res("tables/searches.csv")
+COMMITTED_SEARCHES = "results/tables/searches.csv"
 
 
 @functools.cache
@@ -226,8 +231,21 @@ def search_settings(name):
 
 
 def search_summary_file():
-    """The searches' summary when the config has searches (the summary cites it)."""
-    return [SEARCH_SUMMARY] if SEARCHES else []
+    """The searches' summary the summary cites: this run's when it computes
+    the searches, else the committed one (none without searches)."""
+    return [SEARCH_SUMMARY] if RUN_SEARCHES else committed_searches()
+
+
+def search_outputs():
+    """Every search's scores and the searches' summary, when the run computes them."""
+    if not RUN_SEARCHES:
+        return []
+    return [res(f"searches/{n}.csv") for n in SEARCHES] + [SEARCH_SUMMARY]
+
+
+def committed_searches():
+    """The committed searches' summary when it is read (a raw input, hashed)."""
+    return [COMMITTED_SEARCHES] if SEARCHES and not RUN_SEARCHES else []
 
 
 def tables_of(*studies):

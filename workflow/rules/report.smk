@@ -21,6 +21,7 @@ rule summary:
         mem_mb=300,
         runtime=10,
     params:
+        sha256=content_hashes(*committed_searches()),
         titles=TABLE_TITLES,
         causes=TABLE_CAUSES,
         grid=config.get("grid"),
@@ -101,7 +102,7 @@ rule report_html:
         mem_mb=400,
         runtime=10,
     params:
-        sha256=content_hashes(CAPTIONS, "config/config.yaml"),
+        sha256=content_hashes(CAPTIONS, "config/config.yaml", *committed_searches()),
         titles=TABLE_TITLES,
         measured=config.get("measured"),
         # the config the run used, recorded in the report (its differences from the default)
