@@ -49,8 +49,8 @@ def capture(monkeypatch):
 
 @pytest.fixture
 def record(tmp_path):
-    """A 4-channel ``.npy`` record: its rate is what ``fs`` says."""
-    np.save(tmp_path / "rec.npy", np.random.default_rng(1).standard_normal((3000, 4)))
+    """A 2-channel ``.npy`` record (as many as the examples use): its rate is what ``fs`` says."""
+    np.save(tmp_path / "rec.npy", np.random.default_rng(1).standard_normal((3000, 2)))
     return tmp_path / "rec.npy"
 
 
