@@ -166,6 +166,7 @@ def test_readme_shows_modal_commands():
 
 
 @pytest.mark.parametrize("command", readme_commands(README.read_text()))
+@pytest.mark.slow
 def test_readme_command_runs_as_typed(command, tmp_path):
     """Each ``modal`` command shown in the README exits 0 and writes what it says."""
     (tmp_path / "tests").symlink_to(ROOT / "tests")
@@ -193,6 +194,7 @@ def readme_python_blocks(text: str) -> list[str]:
 
 
 @pytest.mark.parametrize("block", readme_python_blocks(README.read_text()))
+@pytest.mark.slow
 def test_readme_python_runs(block, tmp_path):
     """The README's Python examples run from the project folder as shown."""
     (tmp_path / "tests").symlink_to(ROOT / "tests")

@@ -65,6 +65,7 @@ def test_too_many_settings_are_refused(config):
         settings_of(config, {"question": "q", "study": "demo", "tables": [3], "vary": vary})
 
 
+@pytest.mark.slow
 def test_score_of_the_own_setting_is_the_tables_verdict(config):
     """Scoring the config's own setting of the noise-free spillover study
     gives Table 6's committed comparison: the same matches and deviations."""

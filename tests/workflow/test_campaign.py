@@ -165,6 +165,7 @@ def test_tracking_is_one_to_one_and_gated():
     assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 2.015), ("c", 9.0), ("d", 2.01)]
 
 
+@pytest.mark.slow
 def test_run_is_the_entry_point_resumes_and_raises_when_a_job_fails(tmp_path):
     """``modal.campaign.run`` (what ``modal campaign`` calls) writes every
     job's log and names its call in the report; run again, with other

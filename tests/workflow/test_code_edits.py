@@ -16,6 +16,8 @@ import time
 import pytest
 from workflow_run import SMALL_CONFIG_FILE, copy_project, run_snakemake
 
+pytestmark = pytest.mark.slow  # three plans of the whole small config
+
 #: Snakemake prints each planned job as "rule NAME:" (or "localrule NAME:"),
 #: then indented "key: value" lines.
 JOB = re.compile(r"^(?:local)?rule (\S+):\n((?:    .*\n)+)", re.M)

@@ -287,7 +287,7 @@ def test_searches_not_computed_cite_the_committed_table(tmp_path, monkeypatch):
 
 def test_changed_config_without_run_name_refused_by_snakemake(tmp_path):
     work = copy_project(tmp_path)
-    (work / "results/tables").mkdir(parents=True, exist_ok=True)
+    (work / "results/tables").mkdir(parents=True)
     (work / "results/tables/table_01.csv").write_text("mode\n1\n")
     for args in (["init", "-q"], ["add", "results"], ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "t"]):
         subprocess.run(["git", *args], cwd=work, check=True, capture_output=True)

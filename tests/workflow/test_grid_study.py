@@ -41,6 +41,7 @@ def test_noise_free_virtual_test_era_exact(grid, spec):
     assert not res.real_pole.any()
 
 
+@pytest.mark.slow
 def test_pipeline_tables(spec):
     records = gs.grid_records(spec)
     identified, selection = gs.run_grid_study(records, spec)
@@ -60,6 +61,7 @@ def test_pipeline_tables(spec):
         np.testing.assert_allclose(true, gs.grid_model(spec).frequencies_hz(4), rtol=1e-12)
 
 
+@pytest.mark.slow
 def test_measured_record_path_gives_the_virtual_results(spec, tmp_path):
     records = gs.grid_records({**spec, "seeds": {"first": 0, "count": 1}})
     rec = records[0]

@@ -30,8 +30,8 @@ def changed(work):
 @pytest.fixture(scope="module")
 def regenerated(tmp_path_factory):
     """A fresh copy regenerated with ``bash workflow/regenerate.sh`` (the copy
-    holds the committed searches' summary, as a clone does): the folder, the
-    tables that differ and whether the searches ran."""
+    holds the committed searches' summary, as a clone does: regenerate_project):
+    the folder, the tables that differ and whether the searches ran."""
     work = regenerate_project(tmp_path_factory.mktemp("regeneration"))
     run(work, timeout=900)
     return work, changed(work), (work / "results/searches").exists()

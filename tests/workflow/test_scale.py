@@ -47,6 +47,7 @@ def test_chunk_number_out_of_range_is_refused():
         merge_chunks([], "unused.csv")
 
 
+@pytest.mark.slow
 def test_chunked_beam_study_merges_to_the_unsplit_file_byte_for_byte(tmp_path):
     """Off the thesis geometry: sensors at uneven stations of an 11-part span;
     one noise-free case (chunk 0 only) between two noisy ones."""
@@ -74,11 +75,12 @@ def _count_jobs(workdir, *args):
     return {rule: int(n) for rule, n in re.findall(r"^(\w+)\s+(\d+)$", proc.stdout, re.M)}
 
 
+@pytest.mark.slow
 def test_identify_jobs_grow_with_the_seeds(tmp_path):
     """Default config: 50 seeds in one chunk of 50; 200 seeds in chunks of 25
     -> eight jobs per noisy study (demo, noise, cera) and interpretation;
     spillover is noise-free: one job per interpretation."""
-    work = copy_project(tmp_path)
+    work = copy_project(tmp_path, searches=True)
     (work / "more.yaml").write_text(yaml.safe_dump({"seeds": {"first": 0, "count": 200, "chunk": 25},
                                                     "grid": {"seeds": {"first": 0, "count": 10, "chunk": 3}}}))
     default, more = _count_jobs(work), _count_jobs(work, "--configfile", "more.yaml")
@@ -148,7 +150,7 @@ def test_chunked_run_as_separate_processes_equals_the_local_run(small_workflow, 
 @pytest.mark.slow
 def test_named_run_never_touches_the_committed_tables(tmp_path):
     work = copy_project(tmp_path)
-    shutil.copytree(ROOT / "results/tables", work / "results/tables")
+    shutil.copytree(ROOT / "results/tables", work / "results/tables")  # the committed searches' summary too
     before = {p.name: (p.read_bytes(), p.stat().st_mtime_ns) for p in (work / "results/tables").iterdir()}
     (work / "study.yaml").write_text(yaml.safe_dump({"run": "two_seeds", "seeds": {"first": 0, "count": 2}}))
     run_snakemake(work, "results/runs/two_seeds/tables/table_04.csv", "--configfile", "study.yaml")

@@ -18,7 +18,7 @@ TARGET = "results/measured/palisaden/modes.csv"
 
 
 def test_record_rewritten_with_an_older_mtime_is_rerun(tmp_path):
-    work = copy_project(tmp_path)
+    work = copy_project(tmp_path, searches=True)
     run_snakemake(work, TARGET)
     record = work / RECORD
     old = os.stat(work / TARGET).st_mtime - 3600

@@ -192,6 +192,7 @@ def _lints(*args, cwd=ROOT):
     return [line.strip() for line in (proc.stdout + proc.stderr).splitlines() if line.strip().startswith("* ")]
 
 
+@pytest.mark.slow
 def test_lint_clean_apart_from_conda():
     lints = _lints()
     assert lints, "expected at least the conda lint"

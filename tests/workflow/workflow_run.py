@@ -12,17 +12,19 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 #: The small test config (YAML, layered over config/config.yaml).
 SMALL_CONFIG_FILE = "config/test/config.small.yaml"
-#: What a clone holds that the workflow reads: results/ is generated, but for
-#: the committed searches' summary, which a run that does not compute the
-#: searches (config run_searches) cites.
-PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data",
-                 "results/tables/searches.csv")
+#: What a clone holds that the workflow reads (results/ is generated).
+PROJECT_ITEMS = ("Snakefile", "workflow", "config", "modal", "notebooks", "tests/data")
+#: The committed searches' summary, which a run that does not compute the
+#: searches (config run_searches false, the default config's) cites.
+COMMITTED_SEARCHES = "results/tables/searches.csv"
 
 
-def copy_project(dest: Path) -> Path:
-    """Copy the project's workflow files (no results but the committed
-    searches' summary, no caches) to ``dest``."""
-    for item in PROJECT_ITEMS:
+def copy_project(dest: Path, searches: bool = False) -> Path:
+    """Copy the project's workflow files (no results, no caches) to ``dest``;
+    with ``searches``, also the committed searches' summary, as a clone holds
+    it (the default config needs it; the small config computes its own, and a
+    copied one would stand in for it where a target names only that file)."""
+    for item in PROJECT_ITEMS + ((COMMITTED_SEARCHES,) if searches else ()):
         src = ROOT / item
         if src.is_dir():
             shutil.copytree(src, dest / item, ignore=shutil.ignore_patterns("__pycache__"))
@@ -35,7 +37,7 @@ def copy_project(dest: Path) -> Path:
 def regenerate_project(dest: Path) -> Path:
     """A project copy whose ``.venv`` points at this interpreter (run with
     ``SETUP_SKIP=1``), so ``bash workflow/regenerate.sh`` runs as a user would."""
-    work = copy_project(dest)
+    work = copy_project(dest, searches=True)
     (work / "pyproject.toml").write_bytes((ROOT / "pyproject.toml").read_bytes())
     bin_ = work / ".venv/bin"
     bin_.mkdir(parents=True)

@@ -220,6 +220,7 @@ def _hard_beam(beam, modes=7, per_period=80, damping=0.01):
     return rec.displacement, dt, omega
 
 
+@pytest.mark.slow
 def test_falls_back_when_gram_matrix_cannot_resolve(beam):
     """sigma_12 / sigma_1 ~ 3e-9: lambda_12 sits below the Gram matrix's rounding,
     so the thin SVD is used and the result is the full-SVD ERA's."""
@@ -235,6 +236,7 @@ def test_falls_back_when_gram_matrix_cannot_resolve(beam):
     np.testing.assert_array_equal(gram.omega, full.omega)
 
 
+@pytest.mark.slow
 def test_falls_back_when_residual_check_fails():
     """A plain matrix (no block structure) whose 24th singular value is 1e-6 of the
     first and the 25th 0.9 of it: the Gram eigenvectors are wrong by an angle of
@@ -269,6 +271,7 @@ def _noisy_record(n_channels=12, n_samples=8000, seed=0):
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
+@pytest.mark.slow
 def test_noisy_agrees_with_full_svd(seed):
     y = _noisy_record(seed=seed)
     fast = flagged(modal.era, y, 0.01, 12, rows=40, cols=1000)
@@ -281,6 +284,7 @@ def test_noisy_agrees_with_full_svd(seed):
     np.testing.assert_allclose(fast.singular_values, full.singular_values[:24], rtol=1e-10)
 
 
+@pytest.mark.slow
 def test_noisy_several_sets_taller_than_wide():
     """3 data sets, 480 x 300 Hankel: the Gram matrix is that of the columns."""
     y = np.stack([_noisy_record(n_samples=300, seed=s) for s in range(3)])

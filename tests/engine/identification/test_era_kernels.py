@@ -17,6 +17,7 @@ from modal.identification._era_kernels import block_hankel_gram, decompose, lead
 from ..cases import flagged
 from .test_era import _hard_beam, _noisy_record, _took_gram
 
+@pytest.mark.slow
 def test_many_decades_refinement_restores_exactness(beam):
     y, dt, omega = _hard_beam(beam)
     rows, cols, l = 40, 400, y.shape[1]
@@ -123,6 +124,7 @@ def test_leading_eigenpairs_falls_back_when_a_lapack_step_fails(monkeypatch, rou
     np.testing.assert_allclose(u.T @ u, np.eye(20), atol=1e-13)
 
 
+@pytest.mark.slow
 def test_decompose_serves_every_order_up_to_120():
     """One Gram decomposition at order 120, truncated to lower orders (as a
     stabilisation diagram does), matches the thin SVD's at every order."""

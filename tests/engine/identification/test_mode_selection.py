@@ -64,6 +64,7 @@ def chain_free_decay(mass, damping, stiffness, dt, n_samples, seed=0, noise=1e-6
 
 
 @pytest.mark.parametrize("spacing, target_mac", [(0.002, 0.99), (0.003, 0.999), (0.005, 0.99), (0.01, 0.999)])
+@pytest.mark.slow
 def test_close_modes_stay_two_and_are_flagged(spacing, target_mac):
     """Two modes 0.2-1 % apart with shapes of MAC 0.99-0.999, present at the
     same orders: two modes, each flagged ``close`` with their MAC (one pole
@@ -89,6 +90,7 @@ def test_close_modes_stay_two_and_are_flagged(spacing, target_mac):
 
 
 @pytest.mark.parametrize("zeta", [0.1, 0.15, 0.2])
+@pytest.mark.slow
 def test_heavily_damped_modes_are_found(zeta):
     """Three modes damped at 10-20 %: each found within 0.5 % in frequency
     and 5 % of its damping ratio."""
@@ -102,6 +104,7 @@ def test_heavily_damped_modes_are_found(zeta):
     np.testing.assert_allclose(modes["damping"], zeta, rtol=0.05)
 
 
+@pytest.mark.slow
 def test_complex_modes_are_found_with_their_complex_shapes():
     """A chain with non-proportional damping (a dashpot on one mass only):
     every mode is found and its complex shape matches the true one (complex
@@ -222,6 +225,7 @@ def test_the_ambient_path_does_not_depend_on_scale(scale):
     np.testing.assert_allclose(scaled.modes["damping"], base.modes["damping"], rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_without_fmax_the_rows_follow_the_lowest_mode():
     """An ambient record at 200 Hz whose lowest mode is 0.8 Hz: with no
     options the Hankel matrix spans three of its periods (decimated), and
@@ -294,6 +298,7 @@ def test_short_window_counts_the_whole_hankel_span(cols, short):
     assert result.short_window.tolist() == [short]
 
 
+@pytest.mark.slow
 def test_modes_table_has_the_documented_columns():
     """The modes table's columns, in the documented order (docs: records,
     modes.csv); a free decay has no segments, so no standard deviation of
@@ -307,6 +312,7 @@ def test_modes_table_has_the_documented_columns():
     assert (modes["freq_spread_hz"] > 0).all() and (modes["damping_spread"] > 0).all()
 
 
+@pytest.mark.slow
 def test_palisaden_90_minutes_gives_four_modes():
     """Palisaden's whole 90 minutes (tests/data/PALISADEN.md), with the
     documented settings: the three published modes (pyOMA2: 1.88, 2.42, 2.68

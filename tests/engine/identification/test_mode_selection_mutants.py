@@ -568,6 +568,7 @@ def test_normalise_complex_shapes_values():
     assert normalise_complex_shapes(np.array([[1.0], [2.0]])).dtype == complex
 
 
+@pytest.mark.slow
 def test_three_quantities_give_one_shape():
     """Displacement, velocity and acceleration on three of four channels:
     declared, the shapes are the displacement shapes (each channel divided

@@ -185,6 +185,7 @@ def test_a_mode_near_nyquist_is_not_mistaken_for_growth():
     assert not _free_response_warnings(lambda: modal.cera(y, 0.01, 1, cols=1000))
 
 
+@pytest.mark.slow
 def test_ambient_records_warn_free_response():
     """White-noise-driven beam response and the Palisaden record: TCM, CERA
     and ERA on the raw record warn, naming the remedy; ERA on the NExT

@@ -119,6 +119,7 @@ def _small_file_limit():
     resource.setrlimit(resource.RLIMIT_FSIZE, (2000, 2000))
 
 
+@pytest.mark.slow
 def test_failure_part_way_leaves_the_previous_results_untouched(tmp_path):
     out = tmp_path / "results"
     out.mkdir()
@@ -133,6 +134,7 @@ def test_failure_part_way_leaves_the_previous_results_untouched(tmp_path):
     _no_partial_files(tmp_path)
 
 
+@pytest.mark.slow
 def test_failure_part_way_creates_no_folder(tmp_path):
     out = tmp_path / "new" / "results"
     run = _cli("identify", PALISADEN, *PALISADEN_OPTIONS, "--out", out, preexec_fn=_small_file_limit)
@@ -164,6 +166,7 @@ def test_write_identification_full_disk_keeps_previous_results(tmp_path, monkeyp
     _no_partial_files(tmp_path)
 
 
+@pytest.mark.slow
 def test_complete_results_replace_the_previous_ones(tmp_path, capsys):
     out = tmp_path / "results"
     out.mkdir()
@@ -246,6 +249,7 @@ def test_one_dead_channel_is_named_in_the_record_numbering(capsys, tmp_path):
 # --- memory ------------------------------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_more_memory_than_available_is_refused_with_the_size(tmp_path):
     """2000 ambient channels: correlations through cross-spectra, a
     122000 x 122000 Hankel matrix and its SVD: hundreds of GB."""
@@ -266,6 +270,7 @@ def test_more_memory_than_available_is_refused_with_the_size(tmp_path):
 # --- what is written and printed ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 def test_modes_csv_keeps_channel_names_and_damping_is_a_fraction_on_screen_too(capsys, tmp_path):
     acc = np.load(PALISADEN)[:, :6]
     names = ["north", "south", "east", "west", "mid 1", "mid 2"]

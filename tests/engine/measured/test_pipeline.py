@@ -41,6 +41,7 @@ def test_free_decay_closed_form_with_decay_start():
     np.testing.assert_allclose(result.modes["damping"], zeta, rtol=0.05)
 
 
+@pytest.mark.slow
 def test_palisaden_three_modes_within_half_a_percent():
     acc, dt = modal.load_record(PALISADEN, fs=20)
     result, _ = modal.identify_record(acc, dt, "ambient", max_order=60, fmax=5, highpass_hz=0.5)
@@ -71,6 +72,7 @@ def _same_diagram(got, expected):
     return dt
 
 
+@pytest.mark.slow
 def test_identify_record_ambient_preprocessing():
     """Ambient: detrend, decimate by floor(fs / (2.5 fmax)) when that is at
     least 2, high-pass, then NExT correlations with 2 rows + 1 lags from the

@@ -3,6 +3,7 @@
 records, and zero where the segments agree exactly."""
 
 import numpy as np
+import pytest
 
 import modal
 from modal.campaign import shear_frame_modes
@@ -10,6 +11,7 @@ from modal.campaign import shear_frame_modes
 DAMPING = (0.012, 0.015, 0.018, 0.02)
 
 
+@pytest.mark.slow
 def test_interval_covers_the_true_frequency_about_95_percent_of_the_time():
     """40 five-minute ambient records of a four-storey frame with 2 % noise:
     ±1.96 freq_std_hz covers the true frequency in 82-99 % of ~150

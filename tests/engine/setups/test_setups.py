@@ -45,6 +45,7 @@ def plate_merged(plate_folders, tmp_path_factory):
     return merged, results, out, geometry
 
 
+@pytest.mark.slow
 def test_merged_plate_modes_match_the_exact_ones(plate_test, plate_merged):
     """Six setups (two references, three roving sensors each, every other
     channel pointing down, a third of them recording in g, a different
@@ -63,6 +64,7 @@ def test_merged_plate_modes_match_the_exact_ones(plate_test, plate_merged):
         assert np.nanmax(np.abs(rows[["x", "y", "z"]].to_numpy())) == pytest.approx(1.0)
 
 
+@pytest.mark.slow
 def test_units_and_directions_matter(plate_test):
     """Read without their units (g taken as m/s2) or their directions (-z
     taken as +z), the same setups give wrong shapes: the merge uses both."""
@@ -84,6 +86,7 @@ def test_units_and_directions_matter(plate_test):
     assert worst_mac(up) < 0.95
 
 
+@pytest.mark.slow
 def test_merged_outputs_on_disk(plate_merged):
     merged, results, out, _ = plate_merged
     shapes = pd.read_csv(out / "shapes.csv")
@@ -98,6 +101,7 @@ def test_merged_outputs_on_disk(plate_merged):
     assert len(pd.read_csv(out / "channels.csv")) == 6 * 5
 
 
+@pytest.mark.slow
 def test_a_mode_a_setup_did_not_select_comes_from_its_diagram(plate_test):
     """A mode dropped from one setup's selection is still found in that
     setup's diagram, so its roving nodes keep a shape."""
@@ -119,6 +123,7 @@ def test_a_mode_a_setup_did_not_select_comes_from_its_diagram(plate_test):
         assert modal.mac(z.to_numpy()[:, None], modes[:, k:k + 1])[0, 0] >= 0.999
 
 
+@pytest.mark.slow
 def test_min_setups_drops_a_mode_seen_once(plate_test):
     setups, _, _ = plate_test
     results = [modal.identify_setup(s, "ambient", fmax=12)[0] for s in setups[:2]]
@@ -223,6 +228,7 @@ def test_channel_table_angles_and_defaults(tmp_path):
     assert list(t["name"]) == ["ch0", "ch1"] and list(t["unit"]) == ["", ""]
 
 
+@pytest.mark.slow
 def test_setups_must_share_their_references(plate_test):
     setups, _, _ = plate_test
     moved = setups[1].channels.copy()
@@ -236,6 +242,7 @@ def test_setups_must_share_their_references(plate_test):
         modal.check_setups([setups[0], setups[0]])
 
 
+@pytest.mark.slow
 def test_pyoma2_geometry_gives_palisaden_channel_table_and_modes(tmp_path):
     """pyOMA2's geometry 2 (points, sensor map and signs) names the
     Palisaden channels: one command identifies the record on it, finds the
@@ -300,6 +307,7 @@ def test_geometry_refusals(tmp_path):
         read_geometry(tmp_path)
 
 
+@pytest.mark.slow
 def test_command_line_setups(plate_folders, tmp_path, capsys):
     root, folders = plate_folders
     out = tmp_path / "out"
@@ -345,6 +353,7 @@ def test_two_close_modes_of_one_setup_stay_two():
     assert len(clusters) == 2
 
 
+@pytest.mark.slow
 def test_a_second_run_replaces_the_folder_of_setups(plate_test, tmp_path):
     """Writing into an existing results folder replaces its setups/ folder
     as a whole (a setup left out is gone), other files stay."""

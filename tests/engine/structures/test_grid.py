@@ -47,6 +47,7 @@ def test_modes_are_mass_normalised_and_complete(grid):
     np.testing.assert_allclose((phi / omega**2) @ (phi.T @ f), static, atol=1e-6 * np.abs(static).max())
 
 
+@pytest.mark.slow
 def test_mesh_convergence(model):
     coarse = Grid(**{**model, "elements_per_bay": 4}).frequencies_hz(4)
     fine = Grid(**{**model, "elements_per_bay": 8}).frequencies_hz(4)
