@@ -22,10 +22,13 @@ import numpy as np
 import pandas as pd
 
 from .grid_study import grid_findings, grid_mode_errors
+from .precision import percent
 from .tables import inclusion_holds, run_modes
 
 #: A frequency "exact": within this relative error (the ERA on noise-free data, Table 1).
 EXACT = 1e-4
+#: The grid chapter's precision (:mod:`modal.thesis.precision`) for its numbers.
+GRID = "grid"
 #: The columns of ``claims.csv``.
 COLUMNS = ["claim", "section", "criterion", "holds", "numbers"]
 
@@ -44,8 +47,10 @@ class Claim:
     check: Callable
 
 
-def _pct(x) -> str:
-    return f"{100 * x:.3g} %"
+def _pct(x, chapter: str = "beam") -> str:
+    """A relative error in %, at the precision of ``chapter``'s committed
+    numbers (:func:`modal.thesis.precision.percent`: round-off is "exact")."""
+    return percent(x, chapter)
 
 
 def _grade(conditions) -> str:
@@ -144,8 +149,8 @@ def _shape_change(data, study, method, case_a, case_b) -> float:
     return max(float(np.max(np.abs(a[m] - b[m]))) for m in (1, 2, 3))
 
 
-def _fmt(series: pd.Series, percent=True) -> str:
-    return ", ".join(f"r={int(k)}: {_pct(v) if percent else f'{v:.4g}'}" for k, v in series.items())
+def _fmt(series: pd.Series, in_percent=True, chapter: str = "beam") -> str:
+    return ", ".join(f"r={int(k)}: {_pct(v, chapter) if in_percent else f'{v:.4g}'}" for k, v in series.items())
 
 
 # --------------------------------------------------------------------------- #
@@ -299,7 +304,8 @@ def _c_sensitivity(d):
     span = tcm.index[-1] - tcm.index[0]
     st, se = (tcm.iloc[-1] - tcm.iloc[0]) / span, (era.iloc[-1] - era.iloc[0]) / span
     return (_grade([int(se.idxmax()) == 1, int(st.idxmax()) == 3]),
-            f"increase of the mean error per unit η over the sweep: ERA {_fmt(se, False)}; TCM {_fmt(st, False)}")
+            f"increase of the mean error per unit η over the sweep: ERA {_fmt(se, in_percent=False)}; "
+            f"TCM {_fmt(st, in_percent=False)}")
 
 
 def _spill(d, method):
@@ -484,13 +490,14 @@ def _c_grid_raw_tcm(d):
     tcm, _, raw, _, _ = _g_runs(d)
     e = _g_err(d, raw, tcm)
     return (_grade([int(e.idxmax()) == 3, all(e[m] <= 0.10 for m in (1, 2, 4))]),
-            f"TCM, raw data, mean error of the true modes: {_fmt(e)}")
+            f"TCM, raw data, mean error of the true modes: {_fmt(e, chapter=GRID)}")
 
 
 def _c_grid_fundamental(d):
     tcm, era, _, lp10, _ = _g_runs(d)
     t, e = _g_err(d, lp10, tcm)[1], _g_err(d, lp10, era)[1]
-    return _grade([t <= 0.05, e <= 0.05]), f"mode 1 mean error filtered at 10 Hz: TCM {_pct(t)}, ERA {_pct(e)}"
+    return (_grade([t <= 0.05, e <= 0.05]),
+            f"mode 1 mean error filtered at 10 Hz: TCM {_pct(t, GRID)}, ERA {_pct(e, GRID)}")
 
 
 def _c_grid_lower_higher(d):
@@ -506,14 +513,15 @@ def _c_grid_tcm_unaffected(d):
         b = grid_mode_errors(d["grid"], lp75, run).set_index(["seed", "mode"])["freq_hz"]
         change[method] = float((b / a - 1).abs().mean())
     return (_grade([change["TCM"] <= 0.02, change["TCM"] < change["ERA"]]),
-            f"mean |change| of the matched frequencies 10 Hz -> 7.5 Hz: TCM {_pct(change['TCM'])}, "
-            f"ERA {_pct(change['ERA'])}")
+            f"mean |change| of the matched frequencies 10 Hz -> 7.5 Hz: TCM {_pct(change['TCM'], GRID)}, "
+            f"ERA {_pct(change['ERA'], GRID)}")
 
 
 def _c_grid_data_sets_12(d):
     t = d["grid_spec"]["tables"][_g_tables(d, "data_sets")[0]]
     m1, m3 = _g_err(d, t["case"], t["runs"]["era m=1"]), _g_err(d, t["case"], t["runs"]["era m=3"])
-    return _grade([m3[1] < m1[1], m3[2] < m1[2]]), f"ERA mean error m = 1: {_fmt(m1)}; m = 3: {_fmt(m3)}"
+    return (_grade([m3[1] < m1[1], m3[2] < m1[2]]),
+            f"ERA mean error m = 1: {_fmt(m1, chapter=GRID)}; m = 3: {_fmt(m3, chapter=GRID)}")
 
 
 def _grid_spillover(d, method):
@@ -529,14 +537,14 @@ def _c_grid_tcm_two(d):
     case, run = _grid_spillover(d, "tcm")
     n = int(d["grid"].loc[d["grid"]["run"] == run, "n"].min())
     e = _g_err(d, case, run, n)[1]
-    return _grade([e <= 0.10]), f"TCM with n = {n} modes, mode 1 mean error: {_pct(e)}"
+    return _grade([e <= 0.10]), f"TCM with n = {n} modes, mode 1 mean error: {_pct(e, GRID)}"
 
 
 def _c_grid_no_real_pole(d):
     case, run = _grid_spillover(d, "era")
     rows = d["grid"][(d["grid"]["case"] == case) & (d["grid"]["run"] == run)]
     frac = float(rows.groupby(["seed", "n"])["real_pole"].apply(lambda s: s.astype(bool).any()).mean())
-    return _grade([frac == 0]), f"ERA spillover runs (seed x n) with a real pole: {_pct(frac)}"
+    return _grade([frac == 0]), f"ERA spillover runs (seed x n) with a real pole: {_pct(frac, GRID)}"
 
 
 C6 = ("demo", "shapes")

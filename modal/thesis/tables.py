@@ -7,6 +7,8 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from .precision import MOST_DIGITS, committed, is_exact
+
 NOISE_FREE_SEED = -1
 
 #: How figures and the report name the interpretations (config ``interpretations``).
@@ -18,16 +20,30 @@ def interpretation_name(interpretation: str) -> str:
     text = INTERPRETATION_NAMES.get(interpretation)
     return f"{interpretation} ({text})" if text else interpretation
 
-#: Precision of every float the workflow writes to ``results/tables`` (six
-#: significant digits: the thesis prints at most four). Last-digit noise of
-#: the linear algebra (1e-14 on the beams, 1e-8 on the grid) would otherwise
-#: change the committed tables from one machine to the next.
-FLOAT_FORMAT = "%.6g"
+#: Columns of the committed tables that hold relative deviations or errors
+#: (rounded by :func:`modal.thesis.precision.deviation`, 0 when exact).
+DEVIATION_COLUMNS = ("rel_dev", "rel_err", "max_abs_rel_dev", "z")
+
+#: How :func:`write_csv` prints a float: enough digits for any value that
+#: :func:`modal.thesis.precision.committed` has rounded.
+FLOAT_FORMAT = f"%.{MOST_DIGITS}g"
 
 
-def write_csv(frame: pd.DataFrame, path) -> None:
-    """Write a results table with floats at :data:`FLOAT_FORMAT`."""
-    frame.to_csv(path, index=False, float_format=FLOAT_FORMAT, lineterminator="\n")
+def write_csv(frame: pd.DataFrame, path, chapter="beam") -> None:
+    """Write a committed table (``results/tables``) at the precision its
+    computation holds (:func:`modal.thesis.precision.committed`).
+
+    Parameters
+    ----------
+    frame : DataFrame
+    path : path
+    chapter : str or sequence of str
+        ``"beam"`` (Tables 1-9) or ``"grid"`` (Tables 10-15), for the whole
+        table or row by row; it sets the digits kept
+        (:data:`modal.thesis.precision.KERNEL_SPREAD`).
+    """
+    committed(frame, chapter, DEVIATION_COLUMNS).to_csv(path, index=False, float_format=FLOAT_FORMAT,
+                                                        lineterminator="\n")
 
 
 def read_table(path) -> pd.DataFrame:
@@ -357,7 +373,8 @@ def to_markdown(table: pd.DataFrame, title: str, notes: Sequence[str] = ()) -> s
 def cera_sensitivity(identified: Mapping[str, pd.DataFrame], first_seed: int, modes=(1, 2, 3)) -> pd.DataFrame:
     """CERA frequency of modes 1-3 against the Hankel width s, per case and
     interpretation: mean over seeds (real poles left out), relative error
-    against the exact frequency, and the fraction of real poles."""
+    against the exact frequency (``exact``: below the round-off threshold,
+    :func:`modal.thesis.precision.is_exact`), and the fraction of real poles."""
     frames = []
     for interp, frame in identified.items():
         rows = frame[(frame["method"] == "cera") & frame["mode"].isin(modes)]
@@ -366,5 +383,7 @@ def cera_sensitivity(identified: Mapping[str, pd.DataFrame], first_seed: int, mo
         frames.append(stats)
     out = pd.concat(frames, ignore_index=True)
     out["rel_err"] = out["reproduced"] / out["actual"] - 1
-    return out[["interpretation", "case", "cols", "mode", "reproduced", "std", "n_seeds", "real_pole_frac",
-                "actual", "rel_err"]].sort_values(["interpretation", "case", "mode", "cols"], ignore_index=True)
+    out["exact"] = is_exact(out["rel_err"])
+    columns = ["interpretation", "case", "cols", "mode", "reproduced", "std", "n_seeds", "real_pole_frac", "actual",
+               "rel_err", "exact"]
+    return out[columns].sort_values(["interpretation", "case", "mode", "cols"], ignore_index=True)

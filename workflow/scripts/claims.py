@@ -15,4 +15,4 @@ identified = {study: modal.thesis.intermediates.read_identified(path, p.studies[
 grid = (modal.thesis.intermediates.read_grid_identified(snakemake.input.grid[0], p.grid)
         if snakemake.input.get("grid") else None)
 claims = modal.thesis.claims.evaluate_claims(identified, p.tables, p.beams, p.studies, grid, p.grid)
-modal.thesis.tables.write_csv(claims, snakemake.output[0])
+modal.thesis.tables.write_csv(claims, snakemake.output[0])  # text: numbers by precision.percent

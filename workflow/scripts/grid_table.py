@@ -17,7 +17,7 @@ for number, csv, md, notes_file in zip(numbers, snakemake.output.csv, snakemake.
                                        strict=True):
     published = published_all[published_all["table"] == number]
     table = gs.grid_table(number, published, identified, selection, spec, spec["seeds"]["first"])
-    modal.thesis.tables.write_csv(table, csv)
+    modal.thesis.tables.write_csv(table, csv, "grid")
     notes = gs.grid_notes(number, table, identified, spec, *gs.model_against_estimates(number, published, spec))
     modal.thesis.report.write_notes(notes_file, notes)
     with open(md, "w") as fh:

@@ -22,4 +22,6 @@ if snakemake.input.get("grid"):
 searches = modal.thesis.tables.read_table(snakemake.input.searches[0]) if snakemake.input.searches else None
 summary = modal.thesis.report.reproduction_summary(tables, snakemake.params.titles, snakemake.params.causes, stand_in,
                                                    searches)
-modal.thesis.tables.write_csv(summary, snakemake.output[0])
+grid_tables = {int(n) for n in (snakemake.params.grid or {}).get("tables", {})}
+chapters = ["grid" if int(n) in grid_tables else "beam" for n in summary["table"]]
+modal.thesis.tables.write_csv(summary, snakemake.output[0], chapters)

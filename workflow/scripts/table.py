@@ -23,7 +23,7 @@ for number, csv, md, notes_file in zip(numbers, snakemake.output.csv, snakemake.
     identified = modal.thesis.intermediates.read_interpretations(paths, study["interpretations"], study, seeds)
     table = modal.thesis.tables.compare(published[published["table"] == number], identified, spec,
                                         study["methods"], seeds["first"])
-    modal.thesis.tables.write_csv(table, csv)
+    modal.thesis.tables.write_csv(table, csv, "beam")
     notes = modal.thesis.report.table_notes(number, table)
     modal.thesis.report.write_notes(notes_file, notes)
     with open(md, "w") as fh:
