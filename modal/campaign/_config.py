@@ -3,7 +3,8 @@
 A campaign is a YAML file::
 
     records:
-      index: records.csv          # columns path,time; paths relative to this file
+      index: records.csv          # columns path,time (ISO 8601, or as time_format says) and any
+                                  # others (temperature, ...); paths relative to this file
       # or
       glob: "data/*.npy"          # relative to this file
       time_format: "%Y%m%d_%H%M"  # strptime pattern of the time in each name
@@ -27,6 +28,7 @@ index, sorted by time.
 from __future__ import annotations
 
 import math
+import os
 import re
 from datetime import datetime
 from pathlib import Path
@@ -85,7 +87,9 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     Returns
     -------
     config : dict
-        As written, with the defaults filled in and paths made absolute.
+        As written, with the defaults filled in (``identify`` holds every
+        option of :class:`modal.IdentifyOptions`) and paths made absolute;
+        ``layout``: the channel count and rate every record must share.
     index : pandas.DataFrame
         ``record`` (a name unique in the campaign: the path relative to the
         configuration's folder), ``path`` (absolute), ``time``
@@ -113,6 +117,8 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     base = path.parent
     config["tracking"] = {**TRACKING_DEFAULTS, **(config.get("tracking") or {})}
     config.setdefault("chunk", CHUNK)
+    if isinstance(config["chunk"], bool) or not isinstance(config["chunk"], int):
+        raise ValueError(f"{path}: chunk: {config['chunk']!r} is not a whole number of records")
     # The options checked once (IdentifyOptions: bounds and cross-checks) and
     # written out in full, defaults included, for the jobs.
     config["identify"] = IdentifyOptions.from_mapping(config["identify"], where=f"{path}: identify").to_dict()
@@ -123,51 +129,77 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
         config["tracking"]["reference_modes"] = str(reference)
     records = config["records"]
     if "index" in records:
-        index = _read_index(base / records["index"], base)
+        index = _read_index(base / records["index"], base, records.get("time_format"))
     else:
+        try:
+            re.compile(records.get("time_regex") or "")
+        except re.error as exc:
+            raise ValueError(f"{path}: records.time_regex {records['time_regex']!r} is not a regular expression: "
+                             f"{exc}") from None
         index = _glob_index(base, records["glob"], records["time_format"], records.get("time_regex"))
     if index.empty:
         raise ValueError(f"{path}: records: no record found")
-    repeated = index["record"][index["record"].duplicated()].tolist()
-    if repeated:
-        raise ValueError(f"{path}: records: {repeated[0]} listed twice")
+    repeated = index["path"].duplicated(keep=False)
+    if repeated.any():
+        name = index["record"][repeated.idxmax()]
+        count = int((index["path"] == index["path"][repeated.idxmax()]).sum())
+        raise ValueError(f"{path}: records: {name} is listed {count} times (paths naming the same file, such as "
+                         "x and ./x, are one record)")
     index = index.sort_values(["time", "record"], kind="stable").reset_index(drop=True)
-    _refuse_options_no_record_takes(path, IdentifyOptions.from_mapping(config["identify"]), index)
+    config["layout"] = _layout(path, IdentifyOptions.from_mapping(config["identify"]), index)
     return config, index
 
 
-def _refuse_options_no_record_takes(path, options, index) -> None:
-    """Options the campaign's first readable record cannot take (fmax above
-    its Nyquist frequency, a channel it lacks: :meth:`IdentifyOptions.record_problems`)
-    would fail every record alike: refused before any job. A record that
-    cannot be read is left to its job (it lands in ``failed.csv``)."""
+def _layout(path, options, index) -> dict | None:
+    """The channel count and sampling rate of the campaign's first record
+    that reads (``record``, ``n_channels``, ``fs``), which every record must
+    share (:func:`modal.campaign.identify_one` fails one that does not), or
+    None when none reads. Options that record cannot take (fmax above its
+    Nyquist frequency, a channel it lacks:
+    :meth:`IdentifyOptions.record_problems`) would fail every record alike:
+    refused here, before any job. A record that cannot be read is left to
+    its job (it lands in ``failed.csv``)."""
     from ..records import read_record
 
     for record_path, name in zip(index["path"], index["record"]):
         try:
             record = read_record(record_path, options.fs)
-        except (ValueError, OSError):
+        except Exception:  # any reader's failure: the record's job names it
             continue
         problems = options.record_problems(record.acc.shape[1], record.fs)
         if problems:
             raise ValueError(f"{path}: identify.{problems[0]} (record {name}, the first that reads)")
-        return
+        return {"record": name, "n_channels": int(record.acc.shape[1]), "fs": float(record.fs)}
+    return None
 
 
-def _read_index(index_path: Path, base: Path) -> pd.DataFrame:
+def _read_index(index_path: Path, base: Path, time_format: str | None = None) -> pd.DataFrame:
+    """The index's rows: ``record`` (the path as given, normalised: ``./x``
+    is ``x``), ``path`` (absolute), ``time``, and any other column (a
+    temperature, a wind speed) as it is. Times are ISO 8601
+    (``2025-02-01T13:00``, ``2025-02-01 13:00``) or follow ``time_format``:
+    ``01/02/2025`` could be either day or month first, so it needs the
+    format said."""
     try:
         table = pd.read_csv(index_path, dtype={"path": str, "time": str})
-    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+    except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
         raise ValueError(f"{index_path}: cannot read the index: {exc}") from None
     if not {"path", "time"} <= set(table.columns):
         raise ValueError(f"{index_path}: the index needs columns path,time; it has {', '.join(table.columns)}")
-    times = pd.to_datetime(table["time"], errors="coerce", format="mixed")
+    missing = table["path"].isna() | table["time"].isna()
+    if missing.any():
+        row = int(missing.to_numpy().nonzero()[0][0])
+        raise ValueError(f"{index_path}: row {row + 2}: no {'path' if pd.isna(table['path'][row]) else 'time'}")
+    times = pd.to_datetime(table["time"], errors="coerce", format=time_format or "ISO8601")
     if times.isna().any():
         row = int(times.isna().to_numpy().nonzero()[0][0])
-        raise ValueError(f"{index_path}: row {row + 2}: time {table['time'][row]!r} is not a date and time")
-    paths = [(base / p).resolve() if not Path(p).is_absolute() else Path(p) for p in table["path"]]
-    return pd.DataFrame({"record": [str(p) for p in table["path"]], "path": [str(p) for p in paths],
-                         "time": times})
+        expected = f"records.time_format {time_format!r}" if time_format else \
+            "ISO 8601 (e.g. 2025-02-01T13:00); for another layout give records.time_format, e.g. '%d/%m/%Y %H:%M'"
+        raise ValueError(f"{index_path}: row {row + 2}: time {table['time'][row]!r} does not follow {expected}")
+    given = [os.path.normpath(p) for p in table["path"]]
+    paths = [str((base / p).resolve()) for p in given]
+    others = table.drop(columns=["path", "time"])
+    return pd.concat([pd.DataFrame({"record": given, "path": paths, "time": times}), others], axis=1)
 
 
 def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | None) -> pd.DataFrame:
@@ -187,6 +219,18 @@ def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | No
             raise ValueError(f"{p}: records.time_format {time_format!r} does not parse {text!r}") from None
         rows.append({"record": str(p.relative_to(base)), "path": str(p), "time": time})
     return pd.DataFrame(rows, columns=["record", "path", "time"]).astype({"time": "datetime64[ns]"})
+
+
+def campaign_inputs(path, config: dict, index: pd.DataFrame) -> list[Path]:
+    """Every file a campaign reads: the campaign file, its index (if any),
+    the reference modes (if given) and each record."""
+    path = Path(path).resolve()
+    files = [path]
+    if "index" in config["records"]:
+        files.append(path.parent / config["records"]["index"])
+    if config["tracking"]["reference_modes"]:
+        files.append(Path(config["tracking"]["reference_modes"]))
+    return files + [Path(p) for p in index["path"]]
 
 
 def chunks(index: pd.DataFrame, size: int) -> dict[str, pd.DataFrame]:

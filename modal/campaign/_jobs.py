@@ -3,6 +3,7 @@ other in one process, so start-up is paid once per chunk."""
 
 from __future__ import annotations
 
+import math
 import warnings
 from pathlib import Path
 
@@ -13,34 +14,52 @@ MODE_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "
 FAILED_COLUMNS = ["record", "reason"]
 
 
-def identify_one(path, options):
+def identify_one(path, options, layout: dict | None = None):
     """Modes of one record with ``modal identify``'s options
     (:class:`modal.IdentifyOptions`, or a mapping of them such as a campaign
     file's ``identify`` section): the :class:`Stabilisation`, or
-    ``ValueError``/``OSError`` saying why it cannot be read or identified."""
+    ``ValueError``/``OSError`` saying why it cannot be read or identified.
+
+    ``layout`` (``record``, ``n_channels``, ``fs``: the campaign's first
+    record, :func:`modal.campaign.read_campaign`) is what every record must
+    share: a record with another channel count or rate (a file cut short, a
+    logger reconfigured) is refused before identification."""
     from ..measured import identify_options, identify_record
     from ..records import read_record
 
     options = identify_options(options)
     record = read_record(path, options.fs)
+    if layout is not None:
+        n_channels = record.acc.shape[1]
+        if n_channels != layout["n_channels"]:
+            raise ValueError(f"{n_channels} channels, the campaign's records {layout['n_channels']} "
+                             f"(as {layout['record']})")
+        if not math.isclose(record.fs, layout["fs"], rel_tol=1e-9):
+            raise ValueError(f"sampled at {record.fs:g} Hz, the campaign's records at {layout['fs']:g} Hz "
+                             f"(as {layout['record']})")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # "no mode selected" and the like: the table says it
         result, _ = identify_record(record.acc, record.dt, options)
     return result
 
 
-def identify_chunk(records: pd.DataFrame, options: dict, modes_csv, failed_csv) -> None:
+def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout: dict | None = None) -> None:
     """Identify each record of ``records`` (``record``, ``path``, ``time``)
     and write ``modes_csv`` (one row per mode: :data:`MODE_COLUMNS` and the
     real shape, ``phi_0``, ``phi_1``, ... over the channels used) and
-    ``failed_csv`` (``record, reason``: could not be read or identified).
-    A record with no structural response gives no row in either."""
+    ``failed_csv`` (``record, reason``: could not be read or identified, or
+    does not share the campaign's ``layout``, :func:`identify_one`).
+
+    No record stops the others: any failure of one (an exception of any type,
+    e.g. a reader's bare ``Exception`` on a corrupt file) puts it in
+    ``failed_csv`` with a one-line reason. A record with no structural
+    response gives no row in either."""
     rows, failed = [], []
     for rec in records.itertuples():
         try:
-            result = identify_one(rec.path, options)
-        except (ValueError, OSError, MemoryError) as exc:
-            failed.append({"record": rec.record, "reason": " ".join(str(exc).split()) or type(exc).__name__})
+            result = identify_one(rec.path, options, layout)
+        except Exception as exc:  # one record's failure, whatever its kind, is that record's
+            failed.append({"record": rec.record, "reason": _reason(exc)})
             continue
         modes = result.modes
         for k in range(len(modes)):
@@ -55,6 +74,18 @@ def identify_chunk(records: pd.DataFrame, options: dict, modes_csv, failed_csv) 
         Path(path).parent.mkdir(parents=True, exist_ok=True)
     table.to_csv(modes_csv, index=False, float_format="%.8g")
     pd.DataFrame(failed, columns=FAILED_COLUMNS).to_csv(failed_csv, index=False)
+
+
+def _reason(exc: BaseException) -> str:
+    """One line saying why a record failed: the message, else the exception's
+    type; the type is named too unless the engine's own refusal
+    (``ValueError``) or an ``OSError`` already says what happened."""
+    message = " ".join(str(exc).split())
+    if isinstance(exc, (ValueError, OSError)) and message:
+        return message
+    if isinstance(exc, MemoryError):
+        return f"out of memory ({message})" if message else "out of memory"
+    return f"{type(exc).__name__}: {message}" if message else type(exc).__name__
 
 
 def gather(modes_files, failed_files) -> tuple[pd.DataFrame, pd.DataFrame]:

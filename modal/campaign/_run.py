@@ -8,15 +8,16 @@ from pathlib import Path
 import pandas as pd
 
 from ._jobs import gather
-from ._report import campaign_report
-from ._tracking import read_reference_modes, reference_modes, track_modes
+from ._tracking import observed_ranges, read_reference_modes, reference_modes, track_modes
 
 
 def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tracking: dict, folder) -> None:
     """Gather the chunks' files and write ``folder/modes.csv`` (every mode of
     every record), ``failed.csv``, ``references.csv`` (from
     ``tracking["reference_modes"]`` or :func:`reference_modes`),
-    ``tracked.csv`` and ``untracked.csv`` (:func:`track_modes`).
+    ``tracked.csv`` and ``untracked.csv`` (:func:`track_modes`). Given
+    references get the frequency range the campaign observed for each
+    (:func:`modal.campaign._tracking.observed_ranges`), as built ones have it.
 
     ``n_records`` is the number of records in the campaign (the index itself,
     as :func:`modal.campaign.read_campaign` returns it, is taken too: its length)."""
@@ -25,9 +26,11 @@ def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tra
         n_records = len(n_records)
     modes, failed = gather(modes_files, failed_files)
     if tracking.get("reference_modes"):
-        references = read_reference_modes(tracking["reference_modes"])
+        references = observed_ranges(modes, read_reference_modes(tracking["reference_modes"]),
+                                     tracking["freq_rtol"], tracking["mac_min"])
     else:
-        references = reference_modes(modes, n_records, min_share=tracking["min_share"])
+        references = reference_modes(modes, n_records, tracking["freq_rtol"], tracking["min_share"],
+                                     tracking["mac_min"])
     tracked, untracked = track_modes(modes, references, tracking["freq_rtol"], tracking["mac_min"])
     modes.to_csv(folder / "modes.csv", index=False, float_format="%.8g")
     failed.to_csv(folder / "failed.csv", index=False)
@@ -36,10 +39,17 @@ def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tra
     untracked.to_csv(folder / "untracked.csv", index=False, float_format="%.8g")
 
 
-def report_campaign(folder, n_records: int, campaign_path, command: str) -> None:
-    """``folder/report.html`` from the files :func:`track_campaign` wrote."""
+def report_campaign(folder, n_records: int, campaign_path, command: str, covariates=None) -> None:
+    """``folder/report.html`` from the files :func:`track_campaign` wrote.
+
+    ``covariates``: per record, quantities to plot the frequencies against
+    (the index's other columns, e.g. ``temperature_c``): a DataFrame or a
+    mapping of lists with a ``record`` column, or None."""
+    from ._report import campaign_report  # matplotlib: only the report job needs it
+
     folder = Path(folder)
     read = {name: pd.read_csv(folder / f"{name}.csv") for name in ("tracked", "untracked", "failed", "references")}
     read["tracked"]["time"] = pd.to_datetime(read["tracked"]["time"])
     campaign_report(folder / "report.html", read["tracked"], read["untracked"], read["failed"], read["references"],
-                    n_records, Path(campaign_path).read_text(), command)
+                    n_records, Path(campaign_path).read_text(), command,
+                    covariates=None if covariates is None else pd.DataFrame(covariates))

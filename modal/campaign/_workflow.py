@@ -16,7 +16,8 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 
-from ._config import read_campaign
+from .._locks import clear_stale_locks
+from ._config import campaign_inputs, read_campaign
 
 #: The workflow :func:`run` (and ``modal campaign``) runs.
 SNAKEFILE = Path(__file__).with_name("Snakefile")
@@ -39,10 +40,12 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     """Identify every record of a campaign, track the modes and write the report.
 
     Everything is checked before any job runs: the campaign file
-    (:func:`modal.campaign.read_campaign`), the output folder, the profile
-    and Snakemake's presence. Then the campaign's workflow runs in ``out``;
-    a second call with the same campaign resumes, and records added to the
-    index add only their jobs (docs: Monitoring campaigns).
+    (:func:`modal.campaign.read_campaign`), the output folder (never one of
+    the inputs, never holding one), the profile and Snakemake's presence.
+    Locks left by a killed run in ``out`` are cleared (a live run there is
+    refused). Then the campaign's workflow runs in ``out``; a second call
+    with the same campaign resumes, and records added to the index add only
+    their jobs (docs: Monitoring campaigns).
 
     Parameters
     ----------
@@ -76,9 +79,12 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     ------
     ValueError
         The campaign file is refused (the message names the key and the
-        fix), ``cores`` is not a positive integer or ``profile`` is not a
-        folder; :class:`modal.measured.OutputError` (a ``ValueError``) when
-        ``out`` is not a folder or cannot be created.
+        fix), ``cores`` is not a positive integer, ``profile`` is not a
+        folder, or another run is active in ``out`` (its process named);
+        :class:`modal.measured.OutputError` (a ``ValueError``) when ``out``
+        is not a folder, cannot be created, or is, holds or lies inside one
+        of the campaign's inputs (the campaign file, the index, the
+        reference modes, a record).
     ImportError
         The workflow extra (Snakemake, jsonschema, PyYAML) is not installed.
     WorkflowStopped
@@ -86,7 +92,7 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
         identified is not a failure: ``failed.csv`` lists it), or it was
         interrupted.
     """
-    from ..measured import OutputError
+    from ..measured import OutputError, check_output
 
     log = log or (lambda message: None)
     if isinstance(cores, bool) or not isinstance(cores, int) or cores < 1:
@@ -97,12 +103,22 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     if profile is not None and not Path(profile).is_dir():
         raise ValueError(f"profile: {profile} is not a folder (a Snakemake profile is a folder with config.yaml)")
     out = Path(out)
-    if out.exists() and not out.is_dir():
-        raise OutputError(f"out: {out} is not a folder")
+    overlap = _overlapping_input(out, campaign_inputs(campaign, config, index))
+    if overlap is not None:
+        raise OutputError(f"out: {out} {overlap}: the results would overwrite or mix with the campaign's "
+                          "inputs; give a folder of its own")
+    check_output(out)  # a folder (or where one can be made) on a writable file system
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise OutputError(f"out: cannot create {out}: {exc.strerror or exc}") from None
+    cleared, live = clear_stale_locks(out)
+    if live:
+        listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(live.items()))
+        raise ValueError(f"out: a campaign run is active in {out} ({listed}): wait for it or stop it, then run "
+                         "again to resume")
+    if cleared:
+        log(f"cleared {cleared} stale lock(s) of an interrupted run in {out}; resuming")
     if command is None:
         command = f"modal.campaign.run({str(campaign)!r}, {str(out)!r})"
     # Config values as JSON strings: Snakemake reads a bare value as a number or YAML
@@ -121,3 +137,18 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     if not dry_run:
         log(f"wrote {out / 'tracked.csv'} and {out / 'report.html'}")
     return out
+
+
+def _overlapping_input(out: Path, inputs) -> str | None:
+    """How ``out`` overlaps one of ``inputs`` (is it, holds it, lies inside
+    it), or None."""
+    out = out.resolve()
+    for source in inputs:
+        source = Path(source).resolve()
+        if source == out:
+            return f"is the input {source}"
+        if out in source.parents:
+            return f"holds the input {source}"
+        if source in out.parents:
+            return f"lies inside the input {source}"
+    return None

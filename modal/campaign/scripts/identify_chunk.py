@@ -12,4 +12,5 @@ from modal.campaign import identify_chunk
 sys.stderr = open(snakemake.log[0], "w")  # noqa: F821 (given by Snakemake)
 records = pd.DataFrame(snakemake.params.records)  # noqa: F821
 with threadpool_limits(limits=snakemake.threads):  # noqa: F821
-    identify_chunk(records, snakemake.params.options, snakemake.output.modes, snakemake.output.failed)  # noqa: F821
+    identify_chunk(records, snakemake.params.options, snakemake.output.modes, snakemake.output.failed,  # noqa: F821
+                   layout=snakemake.params.layout)  # noqa: F821
