@@ -648,7 +648,6 @@ def setups_problems(key: str, spec: Mapping) -> list[str]:
         options = IdentifyOptions.from_mapping(spec, other=["setups", "geometry", "min_setups"])
     except ValueError as exc:
         return [f"{key}.{exc}"]
-
     try:
         geometry = read_geometry(spec["geometry"]) if spec.get("geometry") else None
     except ValueError as exc:
