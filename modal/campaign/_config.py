@@ -96,15 +96,17 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
         (``datetime64``), sorted by time then record.
     """
     import jsonschema
-    import yaml
+
+    from .._config_text import check_config_text, load_strict
 
     from ..measured import IdentifyOptions
 
     path = Path(path).resolve()
-    try:
-        config = yaml.safe_load(path.read_text())
-    except (OSError, yaml.YAMLError) as exc:
-        raise ValueError(f"{path}: cannot read the campaign: {exc}") from None
+    try:  # data, never code: no template, no alias bomb, no key given twice
+        check_config_text(path)
+        config = load_strict(path)
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot read the campaign: {exc.strerror or exc}") from None
     if not isinstance(config, dict):
         raise ValueError(f"{path}: a campaign is a mapping with records and identify")
     errors = sorted(jsonschema.Draft202012Validator(SCHEMA).iter_errors(config), key=lambda e: list(e.path))

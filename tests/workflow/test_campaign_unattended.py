@@ -229,3 +229,20 @@ def test_the_index_is_data(tmp_path):
                                      "identify: {excitation: ambient}\n")
     with pytest.raises(ValueError, match=r"c.yaml: records.time_regex '\(\[' is not a regular expression"):
         modal.campaign.read_campaign(tmp_path / "c.yaml")
+
+
+def test_the_campaign_file_is_data(tmp_path, capsys):
+    """A key given twice (YAML keeps the last) and an alias bomb are refused
+    at once, before anything is expanded or run."""
+    duplicate = tmp_path / "twice.yaml"
+    duplicate.write_text("records: {index: index.csv}\nidentify: {excitation: ambient, fmax: 3, fmax: 4}\n")
+    assert cli(["campaign", str(duplicate), "--out", str(tmp_path / "o")]) == 2
+    assert "twice.yaml: key 'fmax' given twice in one mapping" in capsys.readouterr().err
+    lines = ["a: &a [1, 1, 1, 1, 1, 1, 1, 1, 1, 1]"]
+    lines += [f"{n}: &{n} [{', '.join([f'*{p}'] * 10)}]" for p, n in zip("abcdefg", "bcdefgh")]
+    bomb = tmp_path / "bomb.yaml"
+    bomb.write_text("\n".join(lines) + "\nrecords: {index: index.csv}\nidentify: {excitation: ambient, channels: *h}\n")
+    started = time.monotonic()
+    assert cli(["campaign", str(bomb), "--out", str(tmp_path / "o")]) == 2
+    assert "bomb.yaml: more than 100000 values once its aliases are expanded" in capsys.readouterr().err
+    assert time.monotonic() - started < 10 and not (tmp_path / "o").exists()
