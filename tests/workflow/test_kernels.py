@@ -55,9 +55,11 @@ def two_kernels() -> list[tuple[dict, str]]:
                 f"gave {', '.join(tried)}. The byte-stability of results/tables across CPUs is not checked.")
 
 
-def regenerate(work, env):
-    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", "--configfile", SMALL_CONFIG_FILE,
-                           *TARGETS], cwd=work, env=env, capture_output=True, text=True, timeout=1800)
+def regenerate(work, env) -> dict:
+    """The small config's committed-table files regenerated in ``work`` with ``env``: name -> bytes."""
+    # the targets before --configfile, which takes every argument after it
+    proc = subprocess.run([sys.executable, "-m", "snakemake", "--cores", "2", *TARGETS, "--configfile",
+                           SMALL_CONFIG_FILE], cwd=work, env=env, capture_output=True, text=True, timeout=1800)
     assert proc.returncode == 0, f"snakemake failed:\n{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}"
     return {p.name: p.read_bytes() for p in sorted((work / "results/tables").iterdir())}
 
