@@ -121,21 +121,27 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
         log(f"cleared {cleared} stale lock(s) of an interrupted run in {out}; resuming")
     if command is None:
         command = f"modal.campaign.run({str(campaign)!r}, {str(out)!r})"
-    # Config values as JSON strings: Snakemake reads a bare value as a number or YAML
-    # (a path with ": " in it would become a mapping).
+    # The workflow's config as a file (JSON, which YAML reads): Snakemake parses
+    # --config values itself, and a path such as "run #1/a: b" does not survive it.
+    settings = out / ".modal" / "config.json"
+    settings.parent.mkdir(exist_ok=True)
+    settings.write_text(json.dumps({"campaign": str(Path(campaign).resolve()), "command": command}))
     call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(out),
-            "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--config",
-            f"campaign={json.dumps(str(Path(campaign).resolve()))}", f"command={json.dumps(command)}"]
+            "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--configfile", str(settings.resolve())]
     if profile is not None:
         call += ["--profile", str(Path(profile).resolve())]
     if dry_run:
         call += ["--dry-run", "--quiet", "rules"]
     log(f"{len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to {config['chunk']}")
+    report = out / "report.html"
+    before = report.stat().st_mtime_ns if report.exists() else None
     done = subprocess.run(call)
     if done.returncode:
         raise WorkflowStopped(done.returncode, out / ".snakemake" / "log")
-    if not dry_run:
-        log(f"wrote {out / 'tracked.csv'} and {out / 'report.html'}")
+    if not dry_run and before is not None and report.stat().st_mtime_ns == before:
+        log(f"nothing to do: {out / 'tracked.csv'} and {report} were up to date")
+    elif not dry_run:
+        log(f"wrote {out / 'tracked.csv'} and {report}")
     return out
 
 

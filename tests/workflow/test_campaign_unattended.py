@@ -246,3 +246,13 @@ def test_the_campaign_file_is_data(tmp_path, capsys):
     assert cli(["campaign", str(bomb), "--out", str(tmp_path / "o")]) == 2
     assert "bomb.yaml: more than 100000 values once its aliases are expanded" in capsys.readouterr().err
     assert time.monotonic() - started < 10 and not (tmp_path / "o").exists()
+
+
+def test_any_folder_name_and_a_rerun_that_did_nothing_says_so(tmp_path, capsys):
+    folder = tmp_path / "run #1" / "a: b"
+    simulate_campaign(folder, n_records=2, duration=60.0)
+    out = tmp_path / "run #1" / "out: x"
+    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(out)]) == 0
+    assert "wrote" in capsys.readouterr().err and (out / "tracked.csv").is_file()
+    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(out)]) == 0
+    assert "nothing to do" in capsys.readouterr().err
