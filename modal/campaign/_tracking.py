@@ -1,6 +1,7 @@
 """Modes tracked over a campaign: a stable numbering by matching each
-record's modes to reference modes (frequency and MAC), the references given
-or built from the campaign itself."""
+record's modes to reference modes by shape (MAC) within the frequencies the
+campaign observed for each, the references given or built from the campaign
+itself by clustering its estimates on frequency and shape together."""
 
 from __future__ import annotations
 
@@ -16,6 +17,18 @@ TRACKED_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping"
 #: this many of a cluster's, evenly spread over it, so a 10,000-record
 #: campaign compares 400 x 400 shapes, not 10^8 pairs.
 MEDOID_SAMPLE = 400
+#: Records whose modes build the references: at most this many, evenly
+#: spread over the campaign's time, so that the clustering's pairs stay
+#: some 10^5 to 10^6 whatever the campaign's length (a year of hourly records
+#: still spans every temperature the year saw).
+REFERENCE_SAMPLE = 1000
+#: Two clusters of one shape whose frequency ranges meet are one mode split
+#: by a few records that show it twice (two poles of one mode), when the
+#: records they share are at most this share of the smaller one's.
+SPLIT_SHARE = 0.2
+#: Columns of a reference's frequency range: the lowest and highest frequency
+#: the campaign observed for it (:func:`observed_ranges`).
+RANGE_COLUMNS = ["freq_low_hz", "freq_high_hz"]
 
 
 def read_reference_modes(path) -> pd.DataFrame:
@@ -33,49 +46,213 @@ def read_reference_modes(path) -> pd.DataFrame:
     return out
 
 
-def reference_modes(modes: pd.DataFrame, n_records: int, gap_rtol=0.01, min_share=0.3) -> pd.DataFrame:
-    """Reference modes built from the campaign's own modes.
+def _unit_shapes(shapes: np.ndarray) -> np.ndarray:
+    norms = np.linalg.norm(shapes, axis=0)
+    return shapes / np.where(norms > 0, norms, 1.0)
 
-    All identified frequencies, sorted, are cut where two neighbours lie more
-    than ``gap_rtol`` apart (a mode that drifts with temperature stays one
-    band); a band holding modes of at least ``min_share`` of the
-    ``n_records`` records is a reference mode: its median frequency and its
-    medoid shape (largest summed MAC with the band's others). Modes closer
-    than ``gap_rtol`` that overlap in frequency over the campaign fall into
-    one band: give ``reference_modes`` in the configuration for them.
+
+def _neighbours(f: np.ndarray, unit: np.ndarray, gap_rtol: float, mac_min: float):
+    """Pairs ``(i, j)`` of estimates (indices into ``f``, sorted ascending)
+    with ``f_j / f_i - 1 <= gap_rtol`` and MAC >= ``mac_min``, and their
+    distance ``(f_j / f_i - 1) / gap_rtol + (1 - MAC) / (1 - mac_min)``
+    (each term at most 1 for a neighbour)."""
+    first, second, distance = [], [], []
+    for offset in range(1, len(f)):
+        i = np.arange(len(f) - offset)
+        j = i + offset
+        gap = f[j] / f[i] - 1
+        within = gap <= gap_rtol
+        if not within.any():
+            break
+        i, j, gap = i[within], j[within], gap[within]
+        similarity = np.abs(np.einsum("ck,ck->k", unit[:, i].conj(), unit[:, j])) ** 2
+        close = similarity >= mac_min
+        first.append(i[close])
+        second.append(j[close])
+        distance.append(gap[close] / gap_rtol + (1 - similarity[close]) / max(1 - mac_min, 1e-9))
+    if not first:
+        return np.zeros(0, int), np.zeros(0, int), np.zeros(0)
+    return np.concatenate(first), np.concatenate(second), np.concatenate(distance)
+
+
+def _clusters(f, unit, record, gap_rtol, mac_min) -> np.ndarray:
+    """Cluster labels of the estimates: single linkage over neighbours
+    (:func:`_neighbours`), nearest pairs first, where two clusters that
+    hold estimates of the same record are never merged (one record shows a
+    mode once: two of its estimates are two modes). That is what keeps two
+    modes apart where their frequencies cross and a few estimates with
+    blended shapes lie between them."""
+    first, second, distance = _neighbours(f, unit, gap_rtol, mac_min)
+    parent = list(range(len(f)))
+    records = [{r} for r in record]
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for k in np.argsort(distance, kind="stable"):
+        a, b = root(int(first[k])), root(int(second[k]))
+        if a == b or not records[a].isdisjoint(records[b]):
+            continue
+        if len(records[a]) < len(records[b]):
+            a, b = b, a
+        parent[b] = a
+        records[a] |= records[b]
+        records[b] = set()
+    return np.array([root(i) for i in range(len(f))])
+
+
+def _medoid(shapes: np.ndarray, members: np.ndarray) -> int:
+    """The member of largest summed MAC with the others (on at most
+    :data:`MEDOID_SAMPLE` of them, evenly spread)."""
+    sample = members[np.linspace(0, len(members) - 1, min(len(members), MEDOID_SAMPLE)).astype(int)]
+    return int(sample[int(np.argmax(mac(shapes[:, sample], shapes[:, sample]).sum(axis=0)))])
+
+
+def _join_split_modes(label, f, shapes, record, freq_rtol, mac_min) -> np.ndarray:
+    """Labels with the clusters of one mode joined: largest first, a cluster
+    joins the larger one whose medoid shape matches its own best (MAC >=
+    ``mac_min``) when their frequency ranges lie within ``freq_rtol`` of
+    each other and they share at most :data:`SPLIT_SHARE` of its records
+    (the single linkage never merges clusters sharing a record, so one
+    record holding a mode twice splits it). Modes that cross keep their
+    medoids' MAC near 0 and stay apart."""
+    clusters = [np.flatnonzero(label == c) for c in np.unique(label)]
+    clusters.sort(key=len, reverse=True)
+    kept = []  # (members, medoid, low, high, records)
+    for members in clusters:
+        medoid, low, high = _medoid(shapes, members), f[members].min(), f[members].max()
+        records = set(record[members])
+        best, best_mac = None, mac_min
+        for k, (_, other, other_low, other_high, other_records) in enumerate(kept):
+            if low > other_high * (1 + freq_rtol) or high < other_low * (1 - freq_rtol):
+                continue
+            if len(records & other_records) > SPLIT_SHARE * len(records):
+                continue
+            similarity = float(mac(shapes[:, [medoid]], shapes[:, [other]])[0, 0])
+            if similarity >= best_mac:
+                best, best_mac = k, similarity
+        if best is None:
+            kept.append((members, medoid, low, high, records))
+        else:
+            joined, other, other_low, other_high, other_records = kept[best]
+            kept[best] = (np.concatenate([joined, members]), other, min(low, other_low), max(high, other_high),
+                          other_records | records)
+    joined = np.empty(len(f), dtype=int)
+    for k, (members, *_) in enumerate(kept):
+        joined[members] = k
+    return joined
+
+
+def reference_modes(modes: pd.DataFrame, n_records: int, freq_rtol=0.05, min_share=0.3,
+                    mac_min=0.8) -> pd.DataFrame:
+    """Reference modes built from the campaign's own modes, by frequency and
+    shape together.
+
+    Two estimates are neighbours when their frequencies lie within
+    ``freq_rtol`` (relative) and their shapes have MAC >= ``mac_min``; the
+    estimates are clustered by single linkage over neighbours, nearest first
+    (distance: the relative frequency difference over ``freq_rtol`` plus
+    ``1 - MAC`` over ``1 - mac_min``), never merging two clusters that share
+    a record (a record shows a mode once); clusters of one shape whose
+    frequencies meet and that share only a few records (a mode shown twice
+    in those: :data:`SPLIT_SHARE`) are joined after. A mode drifting with
+    the temperature is one chain of
+    neighbours, however sparse the records (a step of up to ``freq_rtol``
+    between neighbours); two modes that cross in frequency stay apart when their
+    shapes differ (their MAC is below ``mac_min``), even when a few blended
+    estimates lie between them. A cluster holding modes of at least
+    ``min_share`` of the ``n_records`` records is a reference mode: its
+    median frequency, its medoid shape (largest summed MAC with the
+    cluster's others) and its frequency range (:data:`RANGE_COLUMNS`).
+
+    Campaigns of more than :data:`REFERENCE_SAMPLE` records are clustered on
+    that many records, evenly spread in time (``n_records`` then counts in
+    the same proportion).
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``mode`` (1, 2, ... by frequency), ``freq_hz``, ``n_records`` (the
+        records holding it, among those clustered), ``freq_low_hz``,
+        ``freq_high_hz``, ``phi_0``, ``phi_1``, ....
     """
-    columns = ["mode", "freq_hz", "n_records"]
+    columns = ["mode", "freq_hz", "n_records", *RANGE_COLUMNS]
     if modes.empty:
         return pd.DataFrame(columns=columns)
+    names = modes.sort_values("time", kind="stable")["record"].drop_duplicates().to_numpy()
+    if len(names) > REFERENCE_SAMPLE:
+        kept = names[np.linspace(0, len(names) - 1, REFERENCE_SAMPLE).round().astype(int)]
+        n_records = n_records * len(kept) / len(names)
+        modes = modes[modes["record"].isin(set(kept))]
     ordered = modes.sort_values("freq_hz", kind="stable").reset_index(drop=True)
     f = ordered["freq_hz"].to_numpy(dtype=float)
-    band = np.concatenate([[0], np.cumsum(f[1:] / f[:-1] - 1 > gap_rtol)])
     shapes = shape_matrix(ordered)
+    record = ordered["record"].to_numpy()
+    label = _clusters(f, _unit_shapes(shapes), record, freq_rtol, mac_min)
+    label = _join_split_modes(label, f, shapes, record, freq_rtol, mac_min)
     rows = []
-    for b in np.unique(band):
-        members = np.flatnonzero(band == b)
+    for cluster in np.unique(label):
+        members = np.flatnonzero(label == cluster)
         seen = ordered["record"].iloc[members].nunique()
         if seen < min_share * n_records:
             continue
-        sample = members[np.linspace(0, len(members) - 1, min(len(members), MEDOID_SAMPLE)).astype(int)]
-        medoid = sample[int(np.argmax(mac(shapes[:, sample], shapes[:, sample]).sum(axis=0)))]
-        row = {"freq_hz": float(np.median(f[members])), "n_records": int(seen)}
+        medoid = _medoid(shapes, members)
+        row = {"freq_hz": float(np.median(f[members])), "n_records": int(seen),
+               "freq_low_hz": float(f[members].min()), "freq_high_hz": float(f[members].max())}
         row.update({f"phi_{c}": v for c, v in enumerate(shapes[:, medoid])})
         rows.append(row)
-    table = pd.DataFrame(rows)
-    if table.empty:
+    if not rows:
         return pd.DataFrame(columns=columns)
+    table = pd.DataFrame(rows).sort_values("freq_hz", kind="stable").reset_index(drop=True)
     table.insert(0, "mode", np.arange(1, len(table) + 1))
     return table
 
 
-def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, mac_min=0.8):
-    """Each record's modes matched one to one to the ``references``.
+def observed_ranges(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, mac_min=0.8) -> pd.DataFrame:
+    """The frequencies the campaign observed for each reference mode: of the
+    estimates whose shape matches the reference's (MAC >= ``mac_min``),
+    sorted by frequency and cut where neighbours lie more than ``freq_rtol``
+    apart, the band nearest the reference frequency, if within ``freq_rtol``
+    of it. A mode drifting with the temperature, however far, is one band;
+    another mode of similar shape elsewhere in frequency is another.
 
-    A record's mode may match a reference within ``freq_rtol`` (relative)
-    and with MAC >= ``mac_min``; among the allowed pairs the assignment
-    minimising ``|f - f_ref| / (freq_rtol f_ref) + (1 - MAC) / (1 - mac_min)``
-    is taken (scipy's ``linear_sum_assignment``).
+    Returns ``references`` with :data:`RANGE_COLUMNS` (the band's lowest and
+    highest frequency, the reference frequency included)."""
+    out = references.copy()
+    f_ref = references["freq_hz"].to_numpy(dtype=float)
+    low, high = f_ref.copy(), f_ref.copy()
+    if len(modes) and len(references):
+        f = modes["freq_hz"].to_numpy(dtype=float)
+        similarity = mac(shape_matrix(modes), shape_matrix(references))
+        for j, centre in enumerate(f_ref):
+            matching = np.sort(f[similarity[:, j] >= mac_min])
+            if not len(matching):
+                continue
+            band = np.concatenate([[0], np.cumsum(matching[1:] / matching[:-1] - 1 > freq_rtol)])
+            nearest = int(np.argmin(np.abs(matching - centre)))
+            if abs(matching[nearest] / centre - 1) > freq_rtol:
+                continue
+            members = matching[band == band[nearest]]
+            low[j], high[j] = min(members.min(), centre), max(members.max(), centre)
+    out["freq_low_hz"], out["freq_high_hz"] = low, high
+    return out
+
+
+def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, mac_min=0.8):
+    """Each record's modes matched one to one to the ``references``, by shape.
+
+    A record's mode may match a reference when its shape does (MAC >=
+    ``mac_min``) and its frequency lies within ``freq_rtol`` (relative) of
+    the frequencies the campaign observed for that mode
+    (:data:`RANGE_COLUMNS` of the references, as :func:`reference_modes`
+    builds them; else :func:`observed_ranges`), so a mode is followed
+    however far it drifts, and a mode whose shape matches no reference stays
+    untracked whatever its frequency. Among the allowed pairs the assignment
+    of largest summed MAC is taken (scipy's ``linear_sum_assignment``; equal
+    MACs: the frequency nearer the reference's).
 
     Returns
     -------
@@ -92,16 +269,22 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
     if shapes.shape[0] != ref_shapes.shape[0]:
         raise ValueError(f"the records' shapes have {shapes.shape[0]} channels, the reference modes "
                          f"{ref_shapes.shape[0]}: track the same channels")
+    if not set(RANGE_COLUMNS) <= set(references.columns):
+        references = observed_ranges(modes, references, freq_rtol, mac_min)
     f_ref = references["freq_hz"].to_numpy(dtype=float)
+    low = references["freq_low_hz"].to_numpy(dtype=float) * (1 - freq_rtol)
+    high = references["freq_high_hz"].to_numpy(dtype=float) * (1 + freq_rtol)
     f = modes["freq_hz"].to_numpy(dtype=float)
     tracked_rows, matched = [], np.zeros(len(modes), dtype=bool)
     for _, rows in modes.groupby("record", sort=False).indices.items():
-        gap = np.abs(f[rows, None] - f_ref[None, :]) / f_ref[None, :]
         similarity = mac(shapes[:, rows], ref_shapes)
-        allowed = (gap <= freq_rtol) & (similarity >= mac_min)
+        within = (f[rows, None] >= low[None, :]) & (f[rows, None] <= high[None, :])
+        allowed = within & (similarity >= mac_min)
         if not allowed.any():
             continue
-        cost = np.where(allowed, gap / freq_rtol + (1 - similarity) / max(1 - mac_min, 1e-9), 1e6)
+        # 1 - MAC decides; the frequency only breaks ties (its term < 1e-6)
+        gap = np.minimum(np.abs(f[rows, None] / f_ref[None, :] - 1), 1.0)
+        cost = np.where(allowed, 1 - similarity + 1e-6 * gap, 1e6)
         for i, j in zip(*linear_sum_assignment(cost)):
             if allowed[i, j]:
                 matched[rows[i]] = True

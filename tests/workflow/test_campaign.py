@@ -148,21 +148,27 @@ def _modes(rows):
 
 
 def test_tracking_is_one_to_one_and_gated():
-    """References from the campaign: bands of frequency found in enough
-    records. A record's modes match them one to one by frequency and MAC;
-    a mode outside both gates stays untracked."""
+    """References from the campaign: clusters of estimates close in frequency
+    and shape found in enough records. A record's modes match them one to
+    one by shape within their frequency range; a mode outside both gates
+    stays untracked."""
     up, apart = (1.0, 1.0), (1.0, -1.0)
     modes = _modes([("a", 1, 2.00, up), ("a", 2, 5.00, apart), ("b", 1, 2.01, up), ("b", 2, 5.04, apart),
-                    ("c", 1, 1.995, up), ("c", 2, 2.015, apart), ("c", 3, 9.0, up), ("d", 1, 2.01, apart)])
-    references = reference_modes(modes, n_records=4, min_share=0.5)
-    assert list(references["n_records"]) == [4, 2]  # 1.995-2.015 Hz is one band; 9 Hz once: not a reference
-    assert references["freq_hz"].tolist() == pytest.approx([2.01, 5.02])  # the medians
-    assert references[["phi_0", "phi_1"]].to_numpy().tolist() == [list(up), list(apart)]  # the medoids
+                    ("c", 1, 1.995, up), ("c", 2, 2.015, apart), ("c", 3, 9.0, up), ("d", 1, 2.01, apart),
+                    ("e", 1, 7.0, up)])
+    references = reference_modes(modes, n_records=5, min_share=0.4)
+    # 1.995-2.01 Hz "up" (3 records), 2.01-2.015 Hz "apart" (2: a mode of its own, by its shape), 5.00-5.04 Hz
+    # "apart" (2); 7 and 9 Hz "up", 29 % apart, one record each: not references
+    assert list(references["n_records"]) == [3, 2, 2]
+    assert references["freq_hz"].tolist() == pytest.approx([2.0, 2.0125, 5.02])  # the medians
+    assert references[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.995, 2.01], [2.01, 2.015],
+                                                                               [5.0, 5.04]]
+    assert references[["phi_0", "phi_1"]].to_numpy().tolist() == [list(up), list(apart), list(apart)]  # medoids
     tracked, untracked = track_modes(modes, references, freq_rtol=0.05, mac_min=0.8)
-    assert sorted(zip(tracked["record"], tracked["mode"])) == [("a", 1), ("a", 2), ("b", 1), ("b", 2), ("c", 1)]
-    # c's 2.015 Hz mode lies near mode 1 but has mode 2's shape, 60 % away from mode 2
-    # d's only mode lies at mode 1's frequency with mode 2's shape: the MAC gate keeps it apart
-    assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 2.015), ("c", 9.0), ("d", 2.01)]
+    assert sorted(zip(tracked["record"], tracked["mode"])) == [("a", 1), ("a", 3), ("b", 1), ("b", 3), ("c", 1),
+                                                               ("c", 2), ("d", 2)]
+    # 7 and 9 Hz have mode 1's shape, but lie far beyond the frequencies observed for it
+    assert sorted(zip(untracked["record"], untracked["freq_hz"])) == [("c", 9.0), ("e", 7.0)]
 
 
 @pytest.mark.slow
