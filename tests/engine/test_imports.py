@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 HEAVY = ("matplotlib", "jinja2", "jsonschema", "nbformat", "papermill", "snakemake", "yaml", "modal.thesis")
 ENGINE = Path(__file__).resolve().parents[2] / "modal"
 
@@ -79,16 +81,32 @@ def test_every_public_name_comes_from_the_subpackage_the_lazy_map_names():
     assert int(out.stdout) > 60
 
 
-def test_what_type_checkers_see_is_the_lazy_map():
-    """The imports under ``if TYPE_CHECKING:`` in modal/__init__.py (for IDEs
-    and type checkers; they never run) list exactly the lazy map's names."""
-    tree = ast.parse((ENGINE / "__init__.py").read_text())
+@pytest.mark.parametrize("init", ["__init__.py", "campaign/__init__.py"])
+def test_what_type_checkers_see_is_the_lazy_map(init):
+    """The imports under ``if TYPE_CHECKING:`` in a lazy package's __init__.py
+    (for IDEs and type checkers; they never run) list exactly the lazy map's
+    names; so does ``__all__`` where it is written out (the API pages read it)."""
+    tree = ast.parse((ENGINE / init).read_text())
     lazy = next(n for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "_LAZY_NAMES")
     block = next(n for n in tree.body if isinstance(n, ast.If) and getattr(n.test, "id", "") == "TYPE_CHECKING")
     seen = {}
     for node in block.body:
         seen.setdefault(node.module, set()).update(alias.name for alias in node.names)
-    assert seen == {sub: set(names) for sub, names in ast.literal_eval(lazy.value).items()}
+    mapped = {sub: set(names) for sub, names in ast.literal_eval(lazy.value).items()}
+    assert seen == mapped
+    listed = next((n.value for n in tree.body if isinstance(n, ast.Assign) and n.targets[0].id == "__all__"
+                   and isinstance(n.value, ast.List)), None)
+    if listed is not None:
+        assert sorted(ast.literal_eval(listed)) == sorted(set().union(*mapped.values()))
+
+
+def test_a_campaign_job_loads_neither_the_report_nor_matplotlib():
+    """The identification job's name loads its module, not the report's (so
+    a report edit reruns no identification: the workflow hashes what runs)."""
+    code = ("import sys, modal.campaign; modal.campaign.identify_chunk; "
+            "print(sorted(m for m in sys.modules if m.startswith(('modal.campaign.', 'matplotlib'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert ast.literal_eval(out.strip().splitlines()[-1]) == ["modal.campaign._jobs"]
 
 
 def private_imports(source: str, module: str, is_package: bool = False) -> list[str]:
