@@ -209,8 +209,11 @@ def test_run_plans_and_refuses_before_any_job(tmp_path):
     plan = tmp_path / "plan"
     assert modal.campaign.run(config, plan, dry_run=True) == plan
     assert not list(plan.glob("*.csv")) and not (plan / "chunks").exists()
-    with pytest.raises(OutputError, match="is not a folder"):
+    with pytest.raises(OutputError, match="is the input"):
         modal.campaign.run(config, config)
+    (tmp_path / "file").write_text("mine")
+    with pytest.raises(OutputError, match="exists and is a file, not a folder"):
+        modal.campaign.run(config, tmp_path / "file")
     with pytest.raises(ValueError, match="profile"):
         modal.campaign.run(config, tmp_path / "out", profile=tmp_path / "no-profile")
     with pytest.raises(ValueError, match="cores"):
