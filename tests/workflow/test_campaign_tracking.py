@@ -105,6 +105,20 @@ def test_a_mode_replaced_by_another_shape_at_its_frequency_is_another_reference(
     assert untracked.empty and tracked.groupby("mode")["record"].nunique().tolist() == [20, 20]
 
 
+def test_close_modes_of_similar_shape_seen_together_stay_two():
+    """Two modes 3 % apart whose shapes are alike (MAC 0.83, as with few
+    channels) but which every record shows both of are two references; a
+    record showing the lower one twice (two poles of it, one among the
+    lower mode's estimates of the other records of the summer, 2.01 Hz)
+    does not split it in two."""
+    rows = [(f"r{r:03d}", (2.0 if r < 15 else 2.01) * (1 + 1e-4 * np.sin(r)), _unit(12)) for r in range(30)]
+    rows += [(f"r{r:03d}", 2.06 * (1 + 0.001 * np.cos(r)), _unit(-12)) for r in range(30)]
+    rows += [("r003", 2.01, _unit(12))]
+    references = reference_modes(_modes(rows), n_records=30, min_share=0.3, mac_min=0.8)
+    assert references["n_records"].tolist() == [30, 30]
+    assert references["freq_hz"].tolist() == pytest.approx([2.005, 2.06], abs=0.006)
+
+
 def test_the_observed_range_follows_the_reference_shape_only():
     """A given reference's range is the band of estimates of its shape: a
     mode of another shape chained in frequency above it does not widen it,
