@@ -1,6 +1,9 @@
 """Before `workflow/regenerate.sh` starts Snakemake: check the raw text of
-every config file its command line names (``--configfile A B``), so that
-nothing in them is evaluated or expanded.
+every config file its command line names (``--configfile A B``) and of every
+profile it or the environment names (``--profile``, ``$SNAKEMAKE_PROFILE``,
+``--workflow-profile``) with the config files those set (``configfile:``),
+so that nothing in them is evaluated or expanded
+(:func:`modal.thesis.config.profile_config_files`).
 
 Snakemake loads ``--configfile`` files while it parses its command line,
 before the Snakefile runs, and evaluates a file that sets ``__use_yte__:

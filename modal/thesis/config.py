@@ -8,6 +8,7 @@ its key."""
 from __future__ import annotations
 
 import math
+import os
 import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -48,8 +49,60 @@ def check_config_files(configfiles: Sequence, argv: Sequence[str] = ()) -> None:
         raise ValueError(f"--configfile is given {len(given)} times: Snakemake keeps only the last one "
                          f"({' '.join(given[-1])}) and would silently ignore {' '.join(dropped)}; "
                          f"give all files after one option: --configfile {everything}")
-    for path in configfiles:
+    for path in [*configfiles, *profile_config_files(argv)]:
         check_config_text(path)
+
+
+#: Names of a profile's settings file (Snakemake: ``profile.yaml`` or
+#: ``config.yaml``, optionally for a least major version, ``config.v8+.yaml``).
+PROFILE_FILE = re.compile(r"(profile|config)(\.v\d+\+)?\.yaml")
+
+
+def profile_config_files(argv: Sequence[str], environ=None) -> list[Path]:
+    """The files by which Snakemake's profiles may bring it a config, for
+    the checks before it starts: every settings file of each profile the
+    command line or the environment names (``--profile``, ``--workflow-profile``,
+    ``$SNAKEMAKE_PROFILE``, the workflow's default ``profiles/default``), and
+    the files their ``configfile``/``configfiles`` keys name (relative to
+    the current folder, as Snakemake reads them). A profile given by name is
+    looked up where Snakemake looks: the current folder, the user's and the
+    site's configuration folders. Every version-suffixed settings file
+    counts, whichever Snakemake picks. A settings file's own text is read
+    (:func:`load_strict`) only after :func:`check_config_text` passed it.
+    """
+    environ = os.environ if environ is None else environ
+    profiles, workflow_profiles = [], []
+    args = list(argv)[1:]
+    for i, arg in enumerate(args):
+        for option, found in (("--profile", profiles), ("--workflow-profile", workflow_profiles)):
+            name, eq, value = arg.partition("=")
+            if name == option:
+                value = value if eq else (args[i + 1] if i + 1 < len(args) else "")
+                if value and value != "none":
+                    found.append(value)
+    if not profiles and environ.get("SNAKEMAKE_PROFILE"):
+        profiles.append(environ["SNAKEMAKE_PROFILE"])
+    if not workflow_profiles:
+        workflow_profiles = ["profiles/default", "workflow/profiles/default"]
+    config_home = Path(environ.get("XDG_CONFIG_HOME") or Path.home() / ".config")
+    folders = [Path.cwd(), config_home / "snakemake", Path("/etc/xdg/snakemake")]
+    files = []
+    for profile in [*profiles, *workflow_profiles]:
+        path = Path(profile)
+        candidates = [path] if path.exists() else [folder / profile for folder in folders]
+        for candidate in candidates:
+            if candidate.is_file():
+                files.append(candidate)
+            elif candidate.is_dir():
+                files += sorted(f for f in candidate.iterdir() if PROFILE_FILE.fullmatch(f.name))
+    named = []
+    for settings in files:
+        check_config_text(settings)
+        data = load_strict(settings)
+        for key in ("configfile", "configfiles"):
+            value = data.get(key) if isinstance(data, dict) else None
+            named += [Path(v) for v in ([value] if isinstance(value, str) else value or [])]
+    return files + named
 
 
 def configfile_options(argv: Sequence[str]) -> list[list[str]]:

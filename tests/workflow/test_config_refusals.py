@@ -6,6 +6,7 @@ before any job, and ``workflow/check_configfiles.py`` (run by
 evaluated."""
 
 import copy
+import os
 import subprocess
 import sys
 import time
@@ -57,6 +58,48 @@ def test_yte_in_a_layered_config_refused_before_snakemake_evaluates_it(project):
     assert proc.returncode == 2, proc.stderr
     assert "yte.yaml: seeds.count" in proc.stderr and "yte template" in proc.stderr
     assert not (project / "evaluated.txt").exists()
+
+
+@pytest.mark.parametrize("route", ["--profile", "--profile=", "SNAKEMAKE_PROFILE", "--workflow-profile",
+                                   "profile itself"])
+def test_a_template_brought_by_a_profile_is_refused_before_snakemake(project, tmp_path, route):
+    """A profile (named on the command line, by $SNAKEMAKE_PROFILE, or as the
+    workflow profile) whose config.yaml sets configfile: to a yte template,
+    or is one itself: regenerate.sh's pre-check refuses it; nothing runs."""
+    (tmp_path / "yte.yaml").write_text(YTE.replace("evaluated.txt", str(tmp_path / "evaluated.txt")))
+    profile = tmp_path / "P"
+    profile.mkdir()
+    settings = YTE.replace("evaluated.txt", str(tmp_path / "evaluated.txt")) if route == "profile itself" \
+        else f"configfile: {tmp_path / 'yte.yaml'}\n"
+    (profile / "config.v8+.yaml").write_text(settings)
+    args, env = ["-n"], dict(os.environ)
+    if route == "SNAKEMAKE_PROFILE":
+        env["SNAKEMAKE_PROFILE"] = str(profile)
+    elif route == "--profile=":
+        args.append(f"--profile={profile}")
+    else:
+        args += ["--workflow-profile" if route == "--workflow-profile" else "--profile", str(profile)]
+    proc = subprocess.run([sys.executable, "workflow/check_configfiles.py", *args], cwd=project, env=env,
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2, proc.stderr
+    assert "yte template expression" in proc.stderr and "seeds.count" in proc.stderr
+    assert not (tmp_path / "evaluated.txt").exists()
+
+
+def test_profile_config_files_follow_snakemakes_lookup(tmp_path, monkeypatch):
+    """A profile named (not a path) is looked up in the user's configuration
+    folder; every settings file of a profile counts, and the files its
+    configfile(s) name; nothing without a profile but the workflow's default."""
+    home = tmp_path / "home"
+    (home / "snakemake" / "mine").mkdir(parents=True)
+    (home / "snakemake" / "mine" / "config.yaml").write_text("configfiles: [a.yaml, b.yaml]\n")
+    (home / "snakemake" / "mine" / "profile.v9+.yaml").write_text("cores: 2\n")
+    (home / "snakemake" / "mine" / "notes.yaml").write_text("anything\n")
+    monkeypatch.chdir(tmp_path)
+    found = mc.profile_config_files(["snakemake", "--profile", "mine"], {"XDG_CONFIG_HOME": str(home)})
+    assert [p.name for p in found] == ["config.yaml", "profile.v9+.yaml", "a.yaml", "b.yaml"]
+    assert mc.profile_config_files(["snakemake", "-n"], {"XDG_CONFIG_HOME": str(home)}) == []
+    assert mc.profile_config_files(["snakemake", "--profile", "mine"], {}) == []  # not under ~/.config
 
 
 def test_yte_in_a_layered_config_refused_by_the_snakefile_before_any_job(project):
