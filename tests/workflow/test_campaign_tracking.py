@@ -173,8 +173,8 @@ def test_report_bars_are_clipped_at_zero_and_damping_is_in_percent(tmp_path):
     tracked, untracked = track_modes(modes, references)
     covariates = pd.DataFrame({"record": [f"r{r:03d}" for r in range(12)], "temperature_c": np.linspace(-3, 20, 12)})
     failed = pd.DataFrame(columns=["record", "reason"])
-    campaign_report(tmp_path / "report.html", tracked, untracked, failed, references, 12, "chunk: 5\n", "modal campaign",
-                    covariates=covariates)
+    campaign_report(tmp_path / "report.html", tracked, untracked, failed, references, 12, "chunk: 5\n",
+                    "modal campaign", covariates=covariates)
     text = (tmp_path / "report.html").read_text()
     assert "Damping in % of critical throughout" in text and "damping_mean_pct" in text
     assert "Every identified mode" in text and "Frequency against the index" in text
