@@ -17,20 +17,19 @@ from typing import TYPE_CHECKING
 #: literal: :mod:`modal.thesis.dependencies` reads it with ``ast``.
 _LAZY_NAMES = {
     "_config": ("campaign_inputs", "chunks", "read_campaign"),
-    "_hashes": ("content_hashes",),
     "_jobs": ("gather", "identify_chunk", "identify_one"),
-    "_report": ("campaign_report", "tracking_figure"),
+    "_report": ("campaign_report", "covariate_figure", "mode_summary", "overview_figure", "tracking_figure"),
     "_run": ("report_campaign", "track_campaign"),
-    "_simulated": ("shear_frame_modes", "simulate_campaign"),
-    "_tracking": ("read_reference_modes", "reference_modes", "track_modes"),
+    "_simulated": ("crossing_frame_modes", "shear_frame_modes", "simulate_campaign"),
+    "_tracking": ("observed_ranges", "read_reference_modes", "reference_modes", "track_modes"),
     "_workflow": ("SNAKEFILE", "WorkflowStopped", "run"),
 }
 _MODULE_OF = {name: module for module, names in _LAZY_NAMES.items() for name in names}
 # A literal, for the API pages (read without importing); a test holds it equal to the map's names.
-__all__ = ["SNAKEFILE", "WorkflowStopped", "campaign_inputs", "campaign_report", "chunks", "content_hashes", "gather",
-           "identify_chunk", "identify_one", "read_campaign", "read_reference_modes", "reference_modes",
-           "report_campaign", "run", "shear_frame_modes", "simulate_campaign", "track_campaign", "track_modes",
-           "tracking_figure"]
+__all__ = ["SNAKEFILE", "WorkflowStopped", "campaign_inputs", "campaign_report", "chunks", "covariate_figure",
+           "crossing_frame_modes", "gather", "identify_chunk", "identify_one", "mode_summary", "observed_ranges",
+           "overview_figure", "read_campaign", "read_reference_modes", "reference_modes", "report_campaign", "run",
+           "shear_frame_modes", "simulate_campaign", "track_campaign", "track_modes", "tracking_figure"]
 
 
 def __getattr__(name):
@@ -46,10 +45,9 @@ def __dir__():
 
 if TYPE_CHECKING:  # what static type checkers see; never run
     from ._config import campaign_inputs, chunks, read_campaign
-    from ._hashes import content_hashes
     from ._jobs import gather, identify_chunk, identify_one
-    from ._report import campaign_report, tracking_figure
+    from ._report import campaign_report, covariate_figure, mode_summary, overview_figure, tracking_figure
     from ._run import report_campaign, track_campaign
-    from ._simulated import shear_frame_modes, simulate_campaign
-    from ._tracking import read_reference_modes, reference_modes, track_modes
+    from ._simulated import crossing_frame_modes, shear_frame_modes, simulate_campaign
+    from ._tracking import observed_ranges, read_reference_modes, reference_modes, track_modes
     from ._workflow import SNAKEFILE, WorkflowStopped, run

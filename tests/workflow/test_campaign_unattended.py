@@ -15,7 +15,8 @@ import pytest
 
 import modal
 import modal.campaign
-from modal.campaign import content_hashes, simulate_campaign
+from modal._hashes import content_hashes
+from modal.campaign import simulate_campaign
 from modal.cli import main as cli
 
 ROOT = Path(__file__).resolve().parents[2]

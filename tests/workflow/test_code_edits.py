@@ -76,3 +76,20 @@ def test_a_roving_drawing_edit_reruns_only_the_roving_test(up_to_date):
 def test_a_campaign_report_edit_reruns_nothing(up_to_date):
     jobs = edited_plan(up_to_date, "modal/campaign/_report.py")
     assert not jobs, sorted(jobs)
+
+
+def test_an_engine_edit_with_an_older_time_stamp_reruns_by_content(tmp_path):
+    """The code a job runs enters its params as content hashes: an edit of
+    the pipeline that keeps an older time stamp (``touch -d``, a restored
+    backup, a checkout) still reruns the measured record's identification,
+    (the code inputs alone are compared by time)."""
+    work = copy_project(tmp_path, searches=True)
+    target = "results/measured/palisaden/modes.csv"
+    run_snakemake(work, target)
+    assert "Nothing to be done" in run_snakemake(work, "-n", target).stdout
+    pipeline = work / "modal" / "measured" / "_pipeline.py"
+    old = pipeline.stat()
+    pipeline.write_text(pipeline.read_text() + "# an edit\n")
+    os.utime(pipeline, ns=(old.st_atime_ns, old.st_mtime_ns - 10**12))  # older than every output
+    jobs = planned(run_snakemake(work, "-n", target).stdout)
+    assert "measured_identify" in jobs and any("Params have changed" in r for r in jobs["measured_identify"]), jobs

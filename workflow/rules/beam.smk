@@ -19,6 +19,7 @@ rule identify:
         mem_mb=400,
         runtime=lambda w: identify_runtime(w.study),
     params:
+        code=code_hashes("workflow/scripts/identify.py"),
         study=lambda w: config["studies"][w.study],
         beam=lambda w: config["beams"][config["studies"][w.study]["beam"]],
         signals=lambda w: config["interpretations"][w.interpretation],
@@ -42,6 +43,7 @@ rule merge_identified:
         mem_mb=300,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/merge_chunks.py"),
         n_chunks=lambda w: len(study_chunks(w.study)),
     script:
         "../scripts/merge_chunks.py"
@@ -71,6 +73,7 @@ rule table:
         mem_mb=300,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/table.py"),
         sha256=content_hashes(config["published"]),
         tables={n: table_spec(n) for n in table_numbers()},
         studies={
@@ -100,6 +103,7 @@ rule shape_figures:
         mem_mb=400,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/shape_figures.py"),
         figures=config["shape_figures"],
         captions=FIGURE_CAPTIONS,
         beam=config["beams"][config["studies"]["demo"]["beam"]],
@@ -127,6 +131,7 @@ rule noise_figures:
         mem_mb=400,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/noise_figures.py"),
         figures=config["noise_figures"],
         captions=FIGURE_CAPTIONS,
         study=config["studies"]["noise"],
@@ -153,6 +158,7 @@ rule cera_sensitivity:
         mem_mb=400,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/cera_sensitivity.py"),
         study=config["studies"]["cera"],
         seeds=config["seeds"],
         title=EXTRA_CAPTIONS["cera_sensitivity"],

@@ -7,6 +7,7 @@ import re
 import yaml
 from pathlib import Path
 
+import modal._hashes
 import modal.thesis.dependencies
 import modal.thesis.search
 from modal.thesis.chunks import seed_chunks, study_cases
@@ -42,11 +43,7 @@ wildcard_constraints:
 @functools.cache
 def sha256(path):
     """SHA-256 of the file at ``path`` (read once per planning)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
+    return modal._hashes.file_hash(path)
 
 
 def content_hashes(*paths):
@@ -68,6 +65,17 @@ def code_inputs(path):
         os.path.relpath(root / p)
         for p in modal.thesis.dependencies.code_inputs(path, root=root)
     ]
+
+
+@functools.cache
+def code_hashes(path):
+    """``{module: sha256}`` of the project modules the script or notebook
+    ``path`` runs, for a rule's ``params``: an edit reruns the rule by content
+    even when the file keeps an older time stamp (the code inputs alone are
+    compared by time)."""
+    root = Path(workflow.basedir)
+    files = modal.thesis.dependencies.code_inputs(path, root=root)
+    return {f: sha256(root / f) for f in files}
 
 
 def code(*names):

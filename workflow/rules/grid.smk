@@ -22,6 +22,7 @@ rule grid_identify:
         mem_mb=500,
         runtime=lambda w: grid_identify_runtime(),
     params:
+        code=code_hashes("workflow/scripts/grid_identify.py"),
         spec=config.get("grid"),
         chunk=lambda w: int(w.chunk),
         sha256=content_hashes(*grid_inputs()),
@@ -47,6 +48,7 @@ rule grid_merge:
         mem_mb=300,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/merge_chunks.py"),
         n_chunks=len(grid_chunks()),
     script:
         "../scripts/merge_chunks.py"
@@ -74,6 +76,7 @@ rule grid_table:
         mem_mb=300,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/grid_table.py"),
         spec=config.get("grid"),
     script:
         "../scripts/grid_table.py"
@@ -99,6 +102,7 @@ rule grid_figures:
         mem_mb=400,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/grid_figures.py"),
         spec=config.get("grid"),
         captions=FIGURE_CAPTIONS,
     script:

@@ -24,6 +24,7 @@ rule measured_identify:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/measured.py"),
         spec=lambda w: config["measured"][w.name],
         sha256=lambda w: content_hashes(config["measured"][w.name]["path"]),
     script:
@@ -49,6 +50,7 @@ rule measured_setups:
         mem_mb=1000,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/measured_setups.py"),
         spec=lambda w: config["measured"][w.name],
         sha256=lambda w: content_hashes(*setup_files(config["measured"][w.name])),
     script:

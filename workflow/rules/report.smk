@@ -21,6 +21,7 @@ rule summary:
         mem_mb=300,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/summary.py"),
         sha256=content_hashes(*committed_searches()),
         titles=TABLE_TITLES,
         causes=TABLE_CAUSES,
@@ -46,6 +47,7 @@ rule claims:
         mem_mb=500,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/claims.py"),
         study_names=CLAIM_STUDIES,
         studies=config["studies"],
         seeds=config["seeds"],
@@ -77,6 +79,7 @@ rule notebook:
         mem_mb=800,
         runtime=10,
     params:
+        code=lambda w: code_hashes(f"notebooks/{w.name}.ipynb"),
         parameters=lambda w: notebook_parameters(w.name),
         sha256=content_hashes(CAPTIONS, config["published"]),
     script:
@@ -102,7 +105,10 @@ rule report_html:
         mem_mb=400,
         runtime=10,
     params:
-        sha256=content_hashes(CAPTIONS, "config/config.yaml", *committed_searches()),
+        code=code_hashes("workflow/scripts/report_html.py"),
+        sha256=content_hashes(
+            CAPTIONS, "config/config.yaml", *REPORT_TEMPLATES, *committed_searches()
+        ),
         titles=TABLE_TITLES,
         measured=config.get("measured"),
         # the config the run used, recorded in the report (its differences from the default)

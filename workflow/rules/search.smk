@@ -18,6 +18,7 @@ rule search_setting:
         mem_mb=400,
         runtime=lambda w: identify_runtime(config["searches"][w.search]["study"]),
     params:
+        code=code_hashes("workflow/scripts/search_setting.py"),
         sha256=content_hashes(config["published"]),
         setting=lambda w: search_settings(w.search)[w.setting],
         interpretations=lambda w: {
@@ -52,6 +53,7 @@ rule searches:
         mem_mb=400,
         runtime=10,
     params:
+        code=code_hashes("workflow/scripts/searches.py"),
         searches=config.get("searches", {}),
         settings={name: search_settings(name) for name in SEARCHES},
     script:

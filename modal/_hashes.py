@@ -1,5 +1,5 @@
-"""Contents as hashes, so a campaign reruns what changed whatever the time
-stamps say."""
+"""Contents as hashes, for both workflows' params: a job reruns when what it
+reads changed, whatever the time stamps say."""
 
 from __future__ import annotations
 
