@@ -53,6 +53,7 @@ def small(tmp_path):
     return folder, out
 
 
+@pytest.mark.slow  # runs a campaign
 def test_a_changed_record_reruns_its_chunk_whatever_its_time_stamp(small, capfd):
     folder, out = small
     assert planned(capfd, folder / "campaign.yaml", out) == {}
@@ -66,6 +67,7 @@ def test_a_changed_record_reruns_its_chunk_whatever_its_time_stamp(small, capfd)
     assert planned(capfd, folder / "campaign.yaml", out) == {}
 
 
+@pytest.mark.slow  # runs a campaign
 def test_a_changed_reference_modes_file_reruns_the_tracking(small, capfd):
     folder, out = small
     references = pd.read_csv(out / "references.csv")
@@ -94,6 +96,7 @@ def test_content_hashes_see_a_rewrite_that_keeps_size_and_time(tmp_path):
     assert content_hashes([path], cache=cache) == content_hashes([path])  # the cache agrees with a fresh read
 
 
+@pytest.mark.slow  # runs a campaign
 def test_no_record_stops_the_others(tmp_path):
     """A corrupt UFF (its reader raises a bare Exception), a record with a
     channel fewer (a file cut short) and one at another rate fail with their
@@ -130,6 +133,7 @@ def test_an_output_folder_over_the_inputs_is_refused(tmp_path, capsys):
     assert {p: p.read_bytes() for p in folder.rglob("*") if p.is_file()} == before
 
 
+@pytest.mark.slow  # runs a campaign
 def test_a_live_run_in_the_folder_is_refused_with_its_pid(tmp_path):
     folder = tmp_path / "campaign"
     simulate_campaign(folder, n_records=2, duration=60.0)
@@ -249,6 +253,7 @@ def test_the_campaign_file_is_data(tmp_path, capsys):
     assert time.monotonic() - started < 10 and not (tmp_path / "o").exists()
 
 
+@pytest.mark.slow  # runs a campaign
 def test_any_folder_name_and_a_rerun_that_did_nothing_says_so(tmp_path, capsys):
     folder = tmp_path / "run #1" / "a: b"
     simulate_campaign(folder, n_records=2, duration=60.0)

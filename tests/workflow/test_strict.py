@@ -88,8 +88,8 @@ BAD = [
     ("grid.tables.x", {"title": "t", "case": "raw", "runs": {}}, ["grid.tables: key 'x' is not a table or figure number"]),
     # the measured records list: opened and checked before any job
     ("measured.palisaden.path", "tests/data/missing.npy", ["measured.palisaden.path = 'tests/data/missing.npy': no such"]),
-    ("measured.palisaden.channels", [0, 9], ["measured.palisaden.channels[1] = 9: the record has 6 channels"]),
-    ("measured.palisaden.refs", [1, 7], ["measured.palisaden.refs[1] = 7: not among the channels used"]),
+    ("measured.palisaden.channels", [0, 9], ["measured.palisaden.channels [9]: the record has channels 0 ... 5"]),
+    ("measured.palisaden.refs", [1, 7], ["measured.palisaden.refs [7]: the record has channels 0 ... 5"]),
     ("measured.palisaden.excitation", "impact", ["measured.palisaden.excitation = 'impact'"]),
     ("measured.palisaden.max_order", 61, ["measured.palisaden.max_order = 61"]),
 ]
