@@ -38,6 +38,7 @@ all of them count; so do all the map's submodules for ``from modal import *``.
 from __future__ import annotations
 
 import ast
+import functools
 import json
 from pathlib import Path
 
@@ -84,8 +85,7 @@ def code_inputs(path, root=".", package: str = "modal") -> list[str]:
             continue
         taken[file] = taken.get(file, set()) | names
         module = _module_name(file, root, package)
-        tree = ast.parse(_source(file))
-        for name in _imports(tree, module, file.name == "__init__.py", taken[file]):
+        for name in _imports_of(file, module, file.name == "__init__.py", frozenset(taken[file])):
             for file_, names_ in _files_of(name, root, package):
                 found.add(file_)
                 pending.append((file_, names_))
@@ -286,7 +286,7 @@ def _loads_lazily(init: Path) -> bool:
     """Whether a package's ``__init__`` defines a module-level ``__getattr__``."""
     if not init.is_file():
         return False
-    tree = ast.parse(_source(init))
+    tree = _tree(init)
     return any(isinstance(node, ast.FunctionDef) and node.name == "__getattr__" for node in tree.body)
 
 
@@ -294,7 +294,7 @@ def _lazy_map(init: Path) -> dict[str, str] | None:
     """Name -> submodule (relative: ``"identification"``) of a lazy package,
     from the literal :data:`LAZY_MAP` assigned in its ``__init__``; ``None``
     without one."""
-    for node in ast.parse(_source(init)).body:
+    for node in _tree(init).body:
         targets = node.targets if isinstance(node, ast.Assign) else [node.target] if isinstance(
             node, ast.AnnAssign) and node.value is not None else []
         if any(isinstance(t, ast.Name) and t.id == LAZY_MAP for t in targets):
@@ -313,6 +313,31 @@ def _module_name(file: Path, root: Path, package: str):
     if parts and parts[-1] == "__init__":
         parts = parts[:-1]
     return ".".join([package, *parts])
+
+
+def _imports_of(file: Path, module, is_package: bool, names: frozenset) -> set[str]:
+    """:func:`_imports` of ``file``'s tree, computed once per content and names
+    in this process (a workflow's planning asks again for every rule)."""
+    stat = file.stat()
+    return _imports_cached(str(file.resolve()), stat.st_mtime_ns, stat.st_size, module, is_package, names)
+
+
+@functools.lru_cache(maxsize=None)
+def _imports_cached(path: str, mtime_ns: int, size: int, module, is_package: bool, names: frozenset) -> set[str]:
+    return _imports(_tree(Path(path)), module, is_package, set(names))
+
+
+def _tree(file: Path) -> ast.Module:
+    """The parsed source of ``file``, parsed once per content seen by this
+    process (planning a workflow asks for the same engine modules once per
+    rule; never modified by the callers)."""
+    stat = file.stat()
+    return _parsed(str(file.resolve()), stat.st_mtime_ns, stat.st_size)
+
+
+@functools.lru_cache(maxsize=None)
+def _parsed(path: str, mtime_ns: int, size: int) -> ast.Module:
+    return ast.parse(_source(Path(path)))
 
 
 def _source(file: Path) -> str:
