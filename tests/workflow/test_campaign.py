@@ -107,7 +107,8 @@ def test_campaign_file_refusals(tmp_path, capsys):
     refused("records: {index: i.csv}\nidentify: {excitation: ambient}\ntracking: {freq_rtol: .inf}\n",
             "tracking.freq_rtol")
     (tmp_path / "i.csv").write_text("path,time\na.npy,noon\n")
-    refused("records: {index: i.csv}\nidentify: {excitation: ambient}\n", "row 2: time 'noon' is not a date")
+    refused("records: {index: i.csv}\nidentify: {excitation: ambient}\n",
+            "row 2: time 'noon' does not follow ISO 8601")
     # Settings every record would fail alike: refused before any job (the first
     # record that reads is checked; one that does not is left to its job).
     modal.save_record_npz(tmp_path / "b.npz", np.random.default_rng(0).standard_normal((2000, 3)), 0.05)

@@ -1,0 +1,441 @@
+"""The campaign's pure parts, each on small inputs (no Snakemake run): the
+tests of the mutation run of ``benchmarks/mutation_campaign.py``."""
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import modal
+from modal._hashes import content_hashes, file_hash
+from modal._locks import clear_stale_locks, live_snakemake_processes, stale_locks
+from modal.campaign import campaign_inputs, chunks, gather, identify_chunk, identify_one, read_campaign
+from modal.campaign._jobs import MODE_COLUMNS, _reason, shape_matrix
+from modal.campaign._workflow import _overlapping_input
+
+# -- the campaign file --------------------------------------------------------
+
+IDENTIFY = "identify: {excitation: ambient}\n"
+
+
+@pytest.fixture
+def folder(tmp_path):
+    """Two 3-channel records at 20 Hz (a.npz, b.npz) and an index of them."""
+    rng = np.random.default_rng(0)
+    for name in ("a", "b"):
+        modal.save_record_npz(tmp_path / f"{name}.npz", rng.standard_normal((400, 3)), 0.05)
+    (tmp_path / "i.csv").write_text("path,time\nb.npz,2025-01-02\na.npz,2025-01-01\n")
+    return tmp_path
+
+
+def write(folder, text) -> Path:
+    (folder / "c.yaml").write_text(text)
+    return folder / "c.yaml"
+
+
+def refused(folder, text, message):
+    with pytest.raises(ValueError) as info:
+        read_campaign(write(folder, text))
+    assert message in str(info.value)
+    return str(info.value)
+
+
+def test_a_campaign_read_with_its_defaults_and_layout(folder):
+    config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
+    assert config["tracking"] == {"reference_modes": None, "freq_rtol": 0.05, "mac_min": 0.8, "min_share": 0.3}
+    assert config["chunk"] == 50
+    assert config["layout"] == {"record": "a.npz", "n_channels": 3, "fs": 20.0}
+    assert config["identify"] == modal.IdentifyOptions(excitation="ambient").to_dict()
+    assert list(index.columns) == ["record", "path", "time"]
+    assert list(index["record"]) == ["a.npz", "b.npz"]
+    assert list(index["path"]) == [str(folder / "a.npz"), str(folder / "b.npz")]
+    assert campaign_inputs(folder / "c.yaml", config, index) == [folder / "c.yaml", folder / "i.csv",
+                                                                 folder / "a.npz", folder / "b.npz"]
+
+
+def test_settings_at_their_bounds_are_taken_beyond_them_refused(folder):
+    (folder / "refs.csv").write_text("freq_hz,phi_0\n1.0,1.0\n")
+    text = ("records: {index: i.csv}\n" + IDENTIFY +
+            "tracking: {reference_modes: refs.csv, freq_rtol: 0.5, mac_min: 0, min_share: 1}\nchunk: 1\n")
+    config, index = read_campaign(write(folder, text))
+    assert config["tracking"] == {"reference_modes": str(folder / "refs.csv"), "freq_rtol": 0.5, "mac_min": 0,
+                                  "min_share": 1}
+    assert config["chunk"] == 1
+    assert campaign_inputs(folder / "c.yaml", config, index)[2] == folder / "refs.csv"
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY +
+                                    "tracking: {reference_modes: null, freq_rtol: 0.01, mac_min: 1, "
+                                    "min_share: 0.01}\n"))
+    assert (config["tracking"]["freq_rtol"], config["tracking"]["mac_min"]) == (0.01, 1)
+    assert config["tracking"]["reference_modes"] is None
+    (folder / "sub").mkdir()
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY +
+                                    "tracking: {reference_modes: sub/../refs.csv}\n"))
+    assert config["tracking"]["reference_modes"] == str(folder / "refs.csv")
+    base = "records: {index: i.csv}\n" + IDENTIFY
+    refused(folder, base + "tracking: {freq_rtol: 0}\n", "c.yaml: tracking.freq_rtol: 0 is less than or equal to")
+    refused(folder, base + "tracking: {freq_rtol: 0.6}\n", "tracking.freq_rtol: 0.6 is greater than the maximum")
+    refused(folder, base + "tracking: {mac_min: -0.1}\n", "tracking.mac_min: -0.1 is less than the minimum of 0")
+    refused(folder, base + "tracking: {mac_min: 1.1}\n", "tracking.mac_min: 1.1 is greater than the maximum of 1")
+    refused(folder, base + "tracking: {min_share: 0}\n", "tracking.min_share: 0 is less than or equal to")
+    refused(folder, base + "tracking: {min_share: 1.5}\n", "tracking.min_share: 1.5 is greater than the maximum")
+    refused(folder, base + "tracking: {reference_modes: 3}\n", "tracking.reference_modes: 3 is not of type")
+    refused(folder, base + "tracking: {mac_min: .nan}\n", "c.yaml: tracking.mac_min: nan is not a finite number")
+    refused(folder, base + "tracking: {other: 1}\n", "tracking: Additional properties are not allowed ('other'")
+    refused(folder, base + "chunk: 0\n", "chunk: 0 is less than the minimum of 1")
+    refused(folder, base + "chunk: true\n", "chunk: True is not of type 'integer'")
+    refused(folder, base + "chunk: 2.5\n", "chunk: 2.5 is not of type 'integer'")
+    refused(folder, base + "tracking: {reference_modes: none.csv}\n",
+            f"c.yaml: tracking.reference_modes: no file {folder / 'none.csv'}")
+    refused(folder, base + "other: 1\n", "c.yaml: (top level): Additional properties are not allowed ('other'")
+    refused(folder, IDENTIFY, "c.yaml: (top level): 'records' is a required property")
+    refused(folder, "records: {index: i.csv}\n", "c.yaml: (top level): 'identify' is a required property")
+    refused(folder, "records: {index: i.csv, other: 1}\n" + IDENTIFY, "records: Additional properties")
+    refused(folder, "records: {index: 3}\n" + IDENTIFY, "c.yaml: records.index: 3 is not of type 'string'")
+    refused(folder, "records: {glob: '*.npz'}\n" + IDENTIFY, "give either index (a CSV of path,time) or glob")
+    refused(folder, "records: {index: i.csv, glob: '*.npz', time_format: '%Y'}\n" + IDENTIFY,
+            "c.yaml: records: give either index (a CSV of path,time) or glob with time_format")
+    refused(folder, "records: 3\n" + IDENTIFY, "c.yaml: records: 3 is not of type 'object'")
+    refused(folder, "records: {}\n" + IDENTIFY, "c.yaml: records: give either index (a CSV of path,time) or glob")
+    for key in ("freq_rtol", "mac_min", "min_share"):
+        refused(folder, base + f"tracking: {{{key}: a}}\n", f"c.yaml: tracking.{key}: 'a' is not of type 'number'")
+    refused(folder, "records: {index: i.csv}\nidentify: 3\n", "c.yaml: identify: 3 is not of type 'object'")
+    refused(folder, "records: {index: i.csv}\nidentify: {fmax: 3}\n",
+            "c.yaml: identify: 'excitation' is a required property")
+    refused(folder, base + "tracking: 3\n", "c.yaml: tracking: 3 is not of type 'object'")
+    for key in ("glob: 3, time_format: x", "glob: x, time_format: 3", "glob: x, time_format: y, time_regex: 3"):
+        refused(folder, f"records: {{{key}}}\n" + IDENTIFY, "is not of type 'string'")
+
+
+def test_a_campaign_named_by_a_relative_path_is_named_in_full(folder, monkeypatch):
+    monkeypatch.chdir(folder)
+    write(folder, "records: {index: i.csv}\n" + IDENTIFY + "chunk: 2.0\n")
+    with pytest.raises(ValueError, match="chunk: 2.0 is not") as info:
+        read_campaign("c.yaml")
+    assert str(info.value).startswith(f"{folder / 'c.yaml'}: ")
+    write(folder, "records: {index: i.csv}\n" + IDENTIFY)
+    config, index = read_campaign("c.yaml")
+    assert list(index["path"]) == [str(folder / "a.npz"), str(folder / "b.npz")]
+    assert campaign_inputs("c.yaml", config, index)[:2] == [folder / "c.yaml", folder / "i.csv"]
+
+
+def test_a_campaign_that_cannot_be_read_says_why(tmp_path):
+    refused(tmp_path, "- records\n- identify\n", "c.yaml: a campaign is a mapping with records and identify")
+    with pytest.raises(ValueError, match="none.yaml: cannot read the campaign: No such file or directory"):
+        read_campaign(tmp_path / "none.yaml")
+    write(tmp_path, "records: {index: none.csv}\n" + IDENTIFY)
+    with pytest.raises(ValueError, match=r"none.csv: cannot read the index: .*No such file"):
+        read_campaign(tmp_path / "c.yaml")
+
+
+def test_the_index_refusals_name_the_row(folder):
+    base = "records: {index: i.csv}\n" + IDENTIFY
+    (folder / "i.csv").write_text("path,when\na.npz,2025-01-01\n")
+    refused(folder, base, "i.csv: the index needs columns path,time; it has path, when")
+    (folder / "i.csv").write_text("path,time\na.npz,2025-01-01\nb.npz,\n")
+    refused(folder, base, "i.csv: row 3: no time")
+    (folder / "i.csv").write_text("path,time\na.npz,2025-01-01\n,2025-01-02\n")
+    refused(folder, base, "i.csv: row 3: no path")
+    (folder / "i.csv").write_text("path,time\na.npz,2025-01-01\nb.npz,2025-01-32\n")
+    refused(folder, base, "i.csv: row 3: time '2025-01-32' does not follow ISO 8601 (e.g. 2025-02-01T13:00)")
+    (folder / "i.csv").write_text("path,time\na.npz,01/02/2025\nb.npz,2025-01-02\n")
+    refused(folder, "records: {index: i.csv, time_format: '%d/%m/%Y'}\n" + IDENTIFY,
+            "i.csv: row 3: time '2025-01-02' does not follow records.time_format '%d/%m/%Y'")
+    (folder / "i.csv").write_text("path,time\n")
+    refused(folder, base, "c.yaml: records: no record found")
+    os.rename(folder / "b.npz", folder / "0101")  # a name that looks like a number, a time without separators
+    (folder / "i.csv").write_text("path,time\n0101,20250102\n")
+    _, index = read_campaign(write(folder, "records: {index: i.csv, time_format: '%Y%m%d'}\n" + IDENTIFY))
+    assert list(index["record"]) == ["0101"] and list(index["time"]) == [pd.Timestamp("2025-01-02")]
+    os.rename(folder / "0101", folder / "b.npz")
+    # one file by two names (a link): named as first listed, with its count
+    os.symlink(folder / "a.npz", folder / "link.npz")
+    (folder / "i.csv").write_text("path,time\na.npz,2025-01-01\nb.npz,2025-01-02\nlink.npz,2025-01-03\n")
+    refused(folder, base, "c.yaml: records: a.npz is listed 2 times")
+    (folder / "i.csv").write_text("path,time\nlink.npz,2025-01-01\na.npz,2025-01-02\nsub/../a.npz,2025-01-03\n")
+    refused(folder, base, "c.yaml: records: link.npz is listed 3 times")
+
+
+def test_records_at_one_time_are_in_name_order_and_the_layout_skips_what_does_not_read(folder):
+    (folder / "broken.npz").write_text("not a record")
+    (folder / "i.csv").write_text("path,time\nb.npz,2025-01-01\nbroken.npz,2025-01-01\na.npz,2025-01-01\n")
+    config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
+    assert list(index["record"]) == ["a.npz", "b.npz", "broken.npz"]
+    assert list(index.index) == [0, 1, 2]
+    assert config["layout"]["record"] == "a.npz"
+    (folder / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\n")
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
+    assert config["layout"] is None
+
+
+def test_glob_refusals_and_names(folder):
+    (folder / "d_20250103.npz").mkdir()  # a folder the pattern matches: not a record
+    (folder / "sub").mkdir()
+    os.rename(folder / "a.npz", folder / "sub" / "a_20250102.npz")
+    os.rename(folder / "b.npz", folder / "b_20250101.npz")
+    config, index = read_campaign(write(folder, "records: {glob: '**/*_*.npz', time_format: '%Y%m%d', "
+                                                "time_regex: '\\d{8}'}\n" + IDENTIFY))
+    assert list(index["record"]) == ["b_20250101.npz", "sub/a_20250102.npz"]
+    assert list(index["path"]) == [str(folder / "b_20250101.npz"), str(folder / "sub" / "a_20250102.npz")]
+    assert list(index["time"]) == [pd.Timestamp("2025-01-01"), pd.Timestamp("2025-01-02")]
+    assert str(index["time"].dtype) == "datetime64[ns]"
+    assert campaign_inputs(folder / "c.yaml", config, index) == [folder / "c.yaml", folder / "b_20250101.npz",
+                                                                 folder / "sub" / "a_20250102.npz"]
+    _, index = read_campaign(write(folder, "records: {glob: 'b_*.npz', time_format: 'b_%Y%m%d'}\n" + IDENTIFY))
+    assert list(index["time"]) == [pd.Timestamp("2025-01-01")]  # the stem, without a regex
+    refused(folder, "records: {glob: '*.npz', time_format: '%Y%m%d', time_regex: 'x(\\d)'}\n" + IDENTIFY,
+            "b_20250101.npz: records.time_regex 'x(\\\\d)' does not match the name")
+    refused(folder, "records: {glob: '*.npz', time_format: '%Y-%m'}\n" + IDENTIFY,
+            "b_20250101.npz: records.time_format '%Y-%m' does not parse 'b_20250101'")
+    refused(folder, "records: {glob: '*.none', time_format: '%Y'}\n" + IDENTIFY, "c.yaml: records: no record found")
+    refused(folder, "records: {glob: '*.npz', time_format: '%Y', time_regex: '('}\n" + IDENTIFY,
+            "c.yaml: records.time_regex '(' is not a regular expression: missing ), unterminated subpattern")
+
+
+def test_chunks_are_consecutive_and_named_by_number():
+    index = pd.DataFrame({"record": list("abcde")})
+    parts = chunks(index, 2)
+    assert list(parts) == ["c00000", "c00001", "c00002"]
+    assert [list(p["record"]) for p in parts.values()] == [["a", "b"], ["c", "d"], ["e"]]
+    assert list(chunks(index, 5)) == ["c00000"] and chunks(index.iloc[:0], 3) == {}
+
+
+# -- a chunk's job --------------------------------------------------------------
+
+class Result:
+    """What ``identify_record`` returns, made up from the record: two modes
+    whose numbers tell the record, its channel count and ``dt`` apart."""
+
+    def __init__(self, acc, dt):
+        n = acc.shape[1]
+        level = float(np.round(np.abs(acc[0]).sum(), 6))
+        self.modes = pd.DataFrame({"mode": [1, 2], "freq_hz": [level, 1 / dt], "freq_std_hz": [1 / 3, 0.2],
+                                   "damping": [0.01, 0.02], "damping_std": [0.001, 0.002], "mpc": [0.9, 0.8],
+                                   "n_poles": [5, 6], "other": [7, 8]})
+        self.shapes = np.arange(2 * n, dtype=float).reshape(n, 2) + level
+
+
+@pytest.fixture
+def stand_in(monkeypatch):
+    """identify_record replaced by :class:`Result` (it warns, as the real
+    one may); the options it received are kept."""
+    received = []
+
+    def identify_record(acc, dt, options):
+        import warnings
+        warnings.warn("no mode selected")  # the tests turn warnings into errors
+        received.append(options)
+        return Result(acc, dt), None
+
+    monkeypatch.setattr(modal.measured, "identify_record", identify_record)
+    return received
+
+
+def test_a_chunk_writes_each_mode_and_each_failure(folder, stand_in, tmp_path):
+    config, index = read_campaign(write(folder, "records: {index: i.csv}\nidentify: {excitation: ambient, fmax: 5}\n"))
+    good = modal.read_record(folder / "a.npz")
+    modal.save_record_npz(folder / "short.npz", good.acc[:, :2], good.dt)
+    modal.save_record_npz(folder / "slow.npz", good.acc[::2], 2 * good.dt)
+    (folder / "broken.npz").write_text("not a record")
+    extra = pd.DataFrame({"record": ["short", "slow", "broken"], "time": pd.Timestamp("2025-06-01"),
+                          "path": [str(folder / n) for n in ("short.npz", "slow.npz", "broken.npz")]})
+    records = pd.concat([index, extra], ignore_index=True)
+    modes_csv, failed_csv = tmp_path / "new" / "a" / "modes.csv", tmp_path / "other" / "b" / "failed.csv"
+    identify_chunk(records, config["identify"], modes_csv, failed_csv, config["layout"])
+    assert stand_in == [modal.IdentifyOptions(excitation="ambient", fmax=5)] * 2
+    modes, failed = pd.read_csv(modes_csv), pd.read_csv(failed_csv)
+    assert list(modes.columns) == MODE_COLUMNS + ["phi_0", "phi_1", "phi_2"]
+    b = modal.read_record(folder / "b.npz").acc
+    level = float(np.round(np.abs(b[0]).sum(), 6))
+    assert modes.iloc[3].tolist() == ["b.npz", "2025-01-02", 2, 20, 0.2, 0.02, 0.002, 0.8, 6, level + 1,
+                                      level + 3, level + 5]
+    assert modes.iloc[2][["mode", "freq_hz", "phi_0"]].tolist() == [1, pytest.approx(level), level]
+    assert list(modes["record"]) == ["a.npz", "a.npz", "b.npz", "b.npz"]
+    assert modes_csv.read_text().count(",0.33333333,") == 2  # to 8 significant digits
+    assert list(failed.columns) == ["record", "reason"] and list(failed["record"]) == ["short", "slow", "broken"]
+    assert failed["reason"][0] == "2 channels, the campaign's records 3 (as a.npz)"
+    assert failed["reason"][1] == "sampled at 10 Hz, the campaign's records at 20 Hz (as a.npz)"
+    np.testing.assert_array_equal(shape_matrix(modes[modes["record"] == "b.npz"]), Result(b, 0.05).shapes)
+    # no layout: the odd records are identified
+    assert identify_one(folder / "short.npz", config["identify"]).shapes.shape == (2, 2)
+    identify_chunk(records.iloc[4:5], config["identify"], modes_csv, failed_csv)
+    assert modes_csv.read_text().strip() == ",".join(MODE_COLUMNS)  # no mode: a header still
+    assert list(pd.read_csv(failed_csv)["record"]) == ["broken"]
+    identify_chunk(records.iloc[:2], config["identify"], modes_csv, failed_csv)
+    assert failed_csv.read_text() == "record,reason\n"  # none failed: a header still
+
+
+def test_the_rate_is_compared_to_one_part_in_a_billion(folder, stand_in):
+    layout = {"record": "a.npz", "n_channels": 3, "fs": 20.0 * (1 + 1e-6)}
+    with pytest.raises(ValueError, match=r"sampled at 20 Hz, the campaign's records at 20 Hz \(as a.npz\)"):
+        identify_one(folder / "a.npz", {"excitation": "ambient"}, layout)
+    layout["fs"] = 20.0 * (1 + 1e-11)
+    assert identify_one(folder / "a.npz", {"excitation": "ambient"}, layout).modes["freq_hz"][1] == 20
+
+
+def test_a_failure_reason_is_one_line():
+    assert _reason(ValueError("fmax above\n   Nyquist")) == "fmax above Nyquist"
+    assert _reason(OSError(2, "No such file")) == "[Errno 2] No such file"
+    assert _reason(ValueError()) == "ValueError"
+    assert _reason(MemoryError()) == "out of memory"
+    assert _reason(MemoryError("12 GB")) == "out of memory (12 GB)"
+    assert _reason(Exception("bad UFF")) == "Exception: bad UFF"
+    assert _reason(KeyError()) == "KeyError"
+
+
+def test_gather_reads_every_chunk_in_order(tmp_path):
+    columns = ",".join(MODE_COLUMNS)
+    (tmp_path / "m0.csv").write_text(f"{columns},phi_0\na,2025-01-01,1,2.5,0.1,0.01,0.001,0.9,5,1.0\n")
+    (tmp_path / "m1.csv").write_text(f"{columns}\n")
+    (tmp_path / "m2.csv").write_text(f"{columns},phi_0\nb,2025-01-02,1,2.6,0.1,0.01,0.001,0.9,5,-1.0\n")
+    (tmp_path / "f0.csv").write_text("record,reason\nx,broken\n")
+    (tmp_path / "f1.csv").write_text("record,reason\ny,short\n")
+    modes, failed = gather([tmp_path / f"m{k}.csv" for k in range(3)], [tmp_path / "f0.csv", tmp_path / "f1.csv"])
+    assert list(modes["record"]) == ["a", "b"] and list(modes["freq_hz"]) == [2.5, 2.6]
+    assert list(modes.index) == [0, 1]
+    assert modes["time"].tolist() == [pd.Timestamp("2025-01-01"), pd.Timestamp("2025-01-02")]
+    assert list(failed["record"]) == ["x", "y"] and list(failed.index) == [0, 1]
+    modes, failed = gather([tmp_path / "m1.csv"], [])
+    assert modes.empty and list(modes.columns) == MODE_COLUMNS and list(failed.columns) == ["record", "reason"]
+    assert str(modes["time"].dtype).startswith("datetime64")
+
+
+def test_shapes_are_channels_by_modes_in_channel_order():
+    modes = pd.DataFrame({"phi_10": [10, 11], "phi_2": [2, 3], "phi_0": [0, 1], "freq_hz": [1.0, 2.0]})
+    shapes = shape_matrix(modes)
+    assert shapes.tolist() == [[0, 1], [2, 3], [10, 11]] and shapes.dtype == float
+
+
+# -- content hashes ---------------------------------------------------------------
+
+def test_a_file_hash_is_the_sha256_of_all_its_bytes(tmp_path):
+    data = bytes(range(256)) * (5 * 4096 + 3)  # 5 MiB and a bit: several blocks
+    (tmp_path / "big").write_bytes(data)
+    assert file_hash(tmp_path / "big") == hashlib.sha256(data).hexdigest()
+
+
+def test_the_cache_is_trusted_while_the_status_is_unchanged(tmp_path):
+    path, cache = tmp_path / "r.bin", tmp_path / "deep" / "er" / "cache.json"
+    path.write_bytes(b"abc")
+    (tmp_path / "folder").mkdir()
+    hashes = content_hashes([tmp_path / "none", tmp_path / "folder", path], cache=cache)
+    assert hashes == {str(path): hashlib.sha256(b"abc").hexdigest(), str(tmp_path / "folder"): None,
+                      str(tmp_path / "none"): None}
+    st = path.stat()
+    written = json.loads(cache.read_text())
+    assert written == {str(path): [[st.st_ino, st.st_size, st.st_mtime_ns, st.st_ctime_ns], hashes[str(path)]]}
+    assert not list(cache.parent.glob("*.tmp"))
+    written[str(path)][1] = "from the cache"
+    cache.write_text(json.dumps(written))
+    stamp = cache.stat().st_mtime_ns
+    time.sleep(0.01)
+    assert content_hashes([path], cache=cache) == {str(path): "from the cache"}  # not read again
+    assert cache.stat().st_mtime_ns == stamp  # nothing new: not rewritten
+    assert content_hashes([path]) == {str(path): hashes[str(path)]}
+    written[str(path)][0][1] += 1  # another size: hashed again
+    cache.write_text(json.dumps(written))
+    assert content_hashes([path], cache=cache) == {str(path): hashes[str(path)]}
+    assert json.loads(cache.read_text())[str(path)][1] == hashes[str(path)]
+    cache.write_text("{not json")
+    assert content_hashes([path], cache=cache) == {str(path): hashes[str(path)]}
+    assert json.loads(cache.read_text())[str(path)][1] == hashes[str(path)]
+    assert content_hashes([path], cache=tmp_path / "none" / "x" / "c.json")[str(path)] == hashes[str(path)]
+
+
+# -- Snakemake's locks ------------------------------------------------------------
+
+def sleeper(cwd, *words):
+    return subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", *words], cwd=cwd)
+
+
+def test_live_snakemake_processes_are_those_working_here(tmp_path):
+    here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
+    here.mkdir()
+    elsewhere.mkdir()
+    ours, other, away = sleeper(here, "SnakeMake"), sleeper(here, "make"), sleeper(elsewhere, "snakemake")
+    try:
+        time.sleep(0.3)
+        found = live_snakemake_processes(here)
+        assert found == {ours.pid: f"{sys.executable} -c import time; time.sleep(60) SnakeMake"}
+        assert live_snakemake_processes(here / ".." / "here") == found
+        assert live_snakemake_processes(here, exclude={ours.pid}) == {}
+        (here / ".snakemake" / "locks").mkdir(parents=True)
+        (here / ".snakemake" / "locks" / "1.input.lock").write_text("")
+        assert clear_stale_locks(here) == (0, found)
+        assert (here / ".snakemake" / "locks" / "1.input.lock").exists()
+    finally:
+        for p in (ours, other, away):
+            p.kill()
+            p.wait()
+
+
+def test_a_command_line_that_is_not_utf8_is_read(tmp_path):
+    odd = subprocess.Popen([sys.executable.encode(), b"-c", b"import time; time.sleep(60)", b"\xff", b"snakemake"],
+                           cwd=tmp_path)
+    try:
+        time.sleep(0.3)
+        assert live_snakemake_processes(tmp_path) == {odd.pid: f"{sys.executable} -c import time; time.sleep(60) "
+                                                               "\ufffd snakemake"}
+    finally:
+        odd.kill()
+        odd.wait()
+
+
+def test_stale_locks_are_listed_and_cleared(tmp_path, monkeypatch):
+    assert stale_locks(tmp_path) == ([], {}) and clear_stale_locks(tmp_path) == (0, {})
+    locks = tmp_path / ".snakemake" / "locks"
+    locks.mkdir(parents=True)
+    assert stale_locks(tmp_path) == ([], {})
+    for name in ("1.output.lock", "0.input.lock", "notes.txt"):
+        (locks / name).write_text("")
+    assert stale_locks(tmp_path) == ([locks / "0.input.lock", locks / "1.output.lock"], {})
+    # this process and its parent are not a run, whatever their command line
+    code = ("import sys; from modal._locks import stale_locks; held, live = stale_locks(sys.argv[1]); "
+            "print(len(held), live)")
+    shown = subprocess.run([sys.executable, "-c", code, str(tmp_path), "snakemake"], cwd=tmp_path,
+                           capture_output=True, text=True, check=True).stdout
+    assert shown == "2 {}\n"
+    assert clear_stale_locks(tmp_path) == (2, {})
+    assert sorted(p.name for p in locks.iterdir()) == ["notes.txt"]
+    # without /proc no process can be seen: the locks are left alone
+    (locks / "0.input.lock").write_text("")
+    real = Path.exists
+    monkeypatch.setattr(Path, "exists", lambda p: False if str(p) == "/proc/self" else real(p))
+    held, live = stale_locks(tmp_path)
+    assert (held, live) == ([locks / "0.input.lock"],
+                            {0: "unknown (no /proc): if no run is active, run `snakemake --unlock` once"})
+    assert clear_stale_locks(tmp_path)[0] == 0 and (locks / "0.input.lock").exists()
+    # a lock gone meanwhile (its run ended between listing and removing) is no error
+    monkeypatch.setattr(modal._locks, "stale_locks", lambda root: ([locks / "gone.lock", locks / "0.input.lock"], {}))
+    assert clear_stale_locks(tmp_path) == (2, {}) and not (locks / "0.input.lock").exists()
+
+
+def test_the_caller_and_its_parent_are_not_a_run(tmp_path):
+    """Started by a process whose command line names snakemake (a job
+    Snakemake runs), working in the same folder: neither is a live run."""
+    locks = tmp_path / ".snakemake" / "locks"
+    locks.mkdir(parents=True)
+    (locks / "0.input.lock").write_text("")
+    inner = ("import sys; from modal._locks import stale_locks; held, live = stale_locks(sys.argv[1]); "
+             "print(len(held), live)")
+    outer = "import subprocess, sys; subprocess.run([sys.executable, '-c', sys.argv[1], sys.argv[2]], check=True)"
+    shown = subprocess.run([sys.executable, "-c", outer, inner, str(tmp_path), "snakemake"], cwd=tmp_path,
+                           capture_output=True, text=True, check=True).stdout
+    assert shown == "1 {}\n"
+
+
+# -- --out over the inputs ------------------------------------------------------
+
+def test_an_output_folder_overlapping_an_input_says_how(tmp_path):
+    inputs = [tmp_path / "c" / "campaign.yaml", tmp_path / "c" / "records" / "a.npz"]
+    assert _overlapping_input(tmp_path / "out", inputs) is None
+    assert _overlapping_input(tmp_path / "c", inputs) == f"holds the input {inputs[0]}"
+    assert _overlapping_input(tmp_path / "c" / "records" / "a.npz", inputs) == f"is the input {inputs[1]}"
+    assert _overlapping_input(tmp_path / "c" / "campaign.yaml" / "x", inputs) == f"lies inside the input {inputs[0]}"
+    assert _overlapping_input(Path("."), [Path("x")]) == f"holds the input {Path('x').resolve()}"
