@@ -78,6 +78,7 @@ def code_inputs(path, root=".", package: str = "modal") -> list[str]:
     found: set[Path] = set()
     # the names of each file that may run; a file is read again when that grows
     taken: dict[Path, set[str]] = {}
+    files_of: dict[str, list[tuple[Path, set[str]]]] = {}
     pending = [(start, {EVERYTHING})]
     while pending:
         file, names = pending.pop()
@@ -86,7 +87,9 @@ def code_inputs(path, root=".", package: str = "modal") -> list[str]:
         taken[file] = taken.get(file, set()) | names
         module = _module_name(file, root, package)
         for name in _imports_of(file, module, file.name == "__init__.py", frozenset(taken[file])):
-            for file_, names_ in _files_of(name, root, package):
+            if name not in files_of:  # the same names recur for every module that imports them
+                files_of[name] = _files_of(name, root, package)
+            for file_, names_ in files_of[name]:
                 found.add(file_)
                 pending.append((file_, names_))
     return sorted(f.relative_to(root).as_posix() for f in found)

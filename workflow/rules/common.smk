@@ -57,14 +57,20 @@ def content_hashes(*paths):
 # themselves (modal.thesis.dependencies: parsed, transitively, with every
 # package __init__ on the way), as paths relative to where snakemake runs (so a
 # copied project reruns nothing). Templates and captions are files, listed.
+@functools.cache
+def project_modules(path):
+    """The project modules (relative to the project) that the script or
+    notebook ``path`` runs, derived once per planning."""
+    return tuple(
+        modal.thesis.dependencies.code_inputs(path, root=Path(workflow.basedir))
+    )
+
+
 def code_inputs(path):
     """The project modules that the script or notebook ``path`` (relative to
     the project) runs when it is executed."""
     root = Path(workflow.basedir)
-    return [
-        os.path.relpath(root / p)
-        for p in modal.thesis.dependencies.code_inputs(path, root=root)
-    ]
+    return [os.path.relpath(root / p) for p in project_modules(path)]
 
 
 @functools.cache
@@ -74,8 +80,7 @@ def code_hashes(path):
     even when the file keeps an older time stamp (the code inputs alone are
     compared by time)."""
     root = Path(workflow.basedir)
-    files = modal.thesis.dependencies.code_inputs(path, root=root)
-    return {f: sha256(root / f) for f in files}
+    return {f: sha256(root / f) for f in project_modules(path)}
 
 
 def code(*names):
