@@ -190,7 +190,8 @@ def test_run_is_the_entry_point_resumes_and_raises_when_a_job_fails(tmp_path):
     messages = []
     modal.campaign.run(tmp_path / "campaign.yaml", out, log=messages.append)
     assert {p: p.stat().st_mtime_ns for p in stamps} == stamps
-    assert messages == ["3 records in 1 chunks of up to 25", f"wrote {out / 'tracked.csv'} and {out / 'report.html'}"]
+    assert messages == ["3 records in 1 chunks of up to 25",
+                        f"nothing to do: {out / 'tracked.csv'} and {out / 'report.html'} were up to date"]
     (tmp_path / "bad.csv").write_text("not,modes\n1,2\n")
     text = (tmp_path / "campaign.yaml").read_text() + "tracking: {reference_modes: bad.csv}\n"
     (tmp_path / "campaign.yaml").write_text(text)
