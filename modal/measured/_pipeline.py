@@ -12,7 +12,7 @@ import pandas as pd
 
 from .._checks import positive_float, unit_scale
 from ..identification import Stabilisation, StabilityCriteria, stabilisation
-from ._options import EXCITATIONS, IdentifyOptions, identify_options
+from ._options import IdentifyOptions, identify_options
 
 #: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
 #: the record's lowest spectral peak ...
