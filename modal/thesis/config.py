@@ -377,6 +377,19 @@ def check(config: Mapping) -> None:
             if interp not in config["interpretations"]:
                 problems.append(f"{key}.interpretations: {interp!r} is not one of {sorted(config['interpretations'])}")
         problems += study_problems(key, study, beams[study["beam"]], f"beams.{study['beam']}")
+        for interp in study["interpretations"]:
+            reading = config["interpretations"].get(interp, {})
+            if name in (reading.get("studies") or {}):
+                from .study import interpreted
+
+                read, beam = interpreted(study, beams[study["beam"]], reading, name)
+                problems += study_problems(f"{key} as interpretations.{interp} reads it", read, beam,
+                                           f"beams.{study['beam']} as interpretations.{interp} reads it")
+    for interp, reading in config["interpretations"].items():
+        for name in reading.get("studies") or {}:
+            if name not in studies or interp not in studies[name]["interpretations"]:
+                problems.append(f"interpretations.{interp}.studies.{name}: not a study that lists {interp!r} "
+                                "among its interpretations")
     if "grid" in config:
         for number in config["tables"]:
             if int(number) in {int(n) for n in config["grid"]["tables"]}:
@@ -412,12 +425,20 @@ def study_problems(key: str, study: Mapping, beam: Mapping, beam_name: str) -> l
     if not study_cases(study):
         problems.append(f"{key} needs cases or noise_sweep")
     n_samples, n_sensors = beam["n_samples"], len(beam["sensors"])
+    if beam.get("period_mode", 1) > beam["n_modes"]:
+        problems.append(f"{beam_name}.period_mode = {beam['period_mode']} exceeds its n_modes = {beam['n_modes']}")
     ns = study.get("n_identified") or []
     for method, s in study["methods"].items():
         mkey = f"{key}.methods.{method}"
         n_modes = max(ns + [s.get("n_modes", n_sensors if method == "tcm" else 1)])
         if method in ("tcm", "cera") and n_modes > n_sensors:
             problems.append(f"{mkey}: n = {n_modes} modes exceeds the {n_sensors} sensors of {beam_name}")
+        kept = s.get("singular_values")
+        if kept is not None and not n_modes <= kept <= n_sensors:
+            problems.append(f"{mkey}.singular_values = {kept} must lie between n_modes = {n_modes} and the "
+                            f"{n_sensors} sensors of {beam_name}")
+        if method != "cera" and ("singular_values" in s or "eigenproblem" in s):
+            problems.append(f"{mkey}: singular_values and eigenproblem are CERA settings")
         if method in ("era", "cera"):
             for req in ("n_modes", "cols") + (("rows",) if method == "era" else ()):
                 if req not in s:

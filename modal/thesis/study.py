@@ -32,14 +32,42 @@ def beam_record(spec: Mapping, damping: float) -> Record:
     ``n_modes`` (participating), ``stations`` (the span is divided into that
     many equal parts), ``impact`` and ``sensors`` (station indices, so
     ``impact: 2`` with ``stations: 7`` is x = 2L/7), ``samples_per_period``
-    (dt = the shortest participating period / this) and ``n_samples``.
+    (dt = the period of mode ``period_mode`` / this; by default of the
+    shortest participating mode, ``period_mode = n_modes``) and ``n_samples``.
+    Sec. 3.4's guideline ``T_s <= pi / (5 omega_n)`` is ``samples_per_period:
+    10`` of mode n; Sec. 6.1's "one tenth of the shortest period" is that
+    guideline with n = 6.
     """
     beam = SimplySupportedBeam(spec["length"], spec["bending_stiffness"], spec["mass_per_length"])
     omega = beam.natural_frequencies(spec["n_modes"])
-    dt = 2 * np.pi / omega[-1] / spec["samples_per_period"]
+    dt = 2 * np.pi / omega[spec.get("period_mode", spec["n_modes"]) - 1] / spec["samples_per_period"]
     station = beam.length / spec["stations"]
     sensors = station * np.asarray(spec["sensors"], dtype=float)
     return beam_impulse_response(beam, spec["n_modes"], station * spec["impact"], sensors, dt, spec["n_samples"], damping)
+
+
+def interpreted(study: Mapping, beam: Mapping, interpretation: Mapping, study_name: str) -> tuple[dict, dict]:
+    """The study and beam as one interpretation reads them.
+
+    An interpretation (config ``interpretations``) names the signals each
+    method sees and, under ``studies.<study_name>``, the unstated settings it
+    reads differently: ``beam`` keys replace the beam's, ``methods.<method>``
+    keys the method's, any other key the study's (e.g. ``cols_sweep``).
+
+    Returns
+    -------
+    study, beam : dict
+        Copies; the inputs are left alone.
+    """
+    import copy
+
+    study, beam = copy.deepcopy(dict(study)), copy.deepcopy(dict(beam))
+    overrides = copy.deepcopy(dict((interpretation.get("studies") or {}).get(study_name) or {}))
+    beam.update(overrides.pop("beam", {}))
+    for method, settings in overrides.pop("methods", {}).items():
+        study["methods"][method] = {**study["methods"].get(method, {}), **settings}
+    study.update(overrides)
+    return study, beam
 
 
 @contextmanager

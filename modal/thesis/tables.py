@@ -130,6 +130,42 @@ def match_to_reference(group: pd.DataFrame) -> pd.Series:
     return pd.Series(matched, index=group.index)
 
 
+#: Methods whose entries are the eigenvalues of a realisation of 2 n states (Eq. 43): two real
+#: eigenvalues side by side take the states of one mode, as a complex pair does.
+STATE_SPACE_METHODS = ("era",)
+
+
+def thesis_rows(group: pd.DataFrame) -> pd.Series:
+    """The row of the thesis's layout each entry of one run takes, identification by identification.
+
+    The position in the frequency-sorted list (the ``mode`` column), except
+    that for a state-space method (:data:`STATE_SPACE_METHODS`) two real
+    poles side by side share one row: a realisation of ``2 n`` states has
+    ``n`` rows, a complex pair or a pair of real eigenvalues in each. So
+    Table 6 prints one ``*`` where the ERA with ``2 n = 8`` singular values
+    finds two real eigenvalues and three complex pairs, and its ``8.87`` is
+    the first complex pair's row (r = 2), not the second real pole's.
+    """
+    rows = group["mode"].copy()
+    real = group["real_pole"].astype(bool).to_numpy()
+    if not real.any() or group["method"].iloc[0] not in STATE_SPACE_METHODS:
+        return rows
+    modes = group["mode"].to_numpy()
+    identification = np.cumsum(modes == 1)  # each identification's entries run from mode 1 on
+    for run in np.unique(identification):
+        where = np.flatnonzero(identification == run)
+        where = where[np.argsort(modes[where], kind="stable")]
+        row, open_pair = 0, False
+        for i in where:
+            if real[i] and open_pair:
+                open_pair = False
+            else:
+                row += 1
+                open_pair = bool(real[i])
+            rows.iloc[i] = row
+    return rows
+
+
 def run_modes(group: pd.DataFrame) -> tuple[pd.Series, bool]:
     """Mode number each identified entry of one run (one method, n and s
     over its seeds) stands for, as every table and figure aligns them.
@@ -139,8 +175,10 @@ def run_modes(group: pd.DataFrame) -> tuple[pd.Series, bool]:
     modes as participate (``participating`` column), each seed's entries are
     matched to the exact modes by frequency (:func:`match_to_reference`);
     otherwise (one realisation, the same entries in every seed, or spillover
-    with fewer identified than participating modes) the position in the
-    frequency-sorted list is the mode. Real poles and unmatched entries get NaN.
+    with fewer identified than participating modes) the row of the thesis's
+    layout is the mode (:func:`thesis_rows`: the position in the
+    frequency-sorted list, two adjacent ERA real poles sharing one row). Real
+    poles and unmatched entries get NaN.
 
     Returns
     -------
@@ -156,7 +194,7 @@ def run_modes(group: pd.DataFrame) -> tuple[pd.Series, bool]:
                     and group["n"].iloc[0] >= group["participating"].iloc[0] and group["actual"].notna().any())
     if matching:
         return match_to_reference(group), True
-    return group["mode"].where(~group["real_pole"].astype(bool)), False
+    return thesis_rows(group).where(~group["real_pole"].astype(bool)), False
 
 
 #: Run labels of an identified-modes file: one run is one identification
@@ -176,7 +214,8 @@ def aggregate(identified: pd.DataFrame, first_seed: int) -> pd.DataFrame:
     """Statistics over seeds of each (method, n, cols, mode).
 
     Table rows are positions in the frequency-sorted list, as the thesis
-    prints them (a real pole takes a row, marked ``*``); the values behind
+    prints them (a real pole takes a row, marked ``*``; two adjacent ERA real
+    poles share one, :func:`thesis_rows`); the values behind
     each row's mean and std are the entries :func:`run_modes` assigns to that
     mode (by frequency when seeds disagree, so a real pole or a lost mode
     does not mix modes). Real poles and missed modes are left out of the
@@ -190,7 +229,9 @@ def aggregate(identified: pd.DataFrame, first_seed: int) -> pd.DataFrame:
     for key, group in identified.groupby(["method", "n", "cols"], sort=True):
         n_seeds = group["seed"].nunique()
         mode_of, matching = run_modes(group)
-        for mode, sub in group.groupby("mode", sort=True):
+        layout_rows = group["mode"] if matching else thesis_rows(group)
+        exact = group.groupby("mode")["actual"].first()
+        for mode, sub in group.groupby(layout_rows, sort=True):
             values = group.loc[mode_of == mode, "omega"]
             first = sub[sub["seed"].isin([first_seed, NOISE_FREE_SEED])]
             rows.append(
@@ -199,19 +240,19 @@ def aggregate(identified: pd.DataFrame, first_seed: int) -> pd.DataFrame:
                     reproduced=values.mean() if len(values) else np.nan,
                     std=values.std(ddof=1) if len(values) > 1 else 0.0,
                     n_seeds=n_seeds,
-                    real_pole_frac=sub["real_pole"].astype(bool).sum() / n_seeds,
+                    real_pole_frac=sub["real_pole"].astype(bool).groupby(sub["seed"]).any().sum() / n_seeds,
                     missed_frac=1 - len(values) / n_seeds,
                     matched_by="frequency" if matching else "position",
                     seed0=first["omega"].iloc[0] if len(first) else np.nan,
                     seed0_real_pole=bool(first["real_pole"].iloc[0]) if len(first) else False,
-                    actual=sub["actual"].iloc[0],
+                    actual=exact.get(mode, sub["actual"].iloc[0]),
                 )
             )
     return pd.DataFrame(rows)
 
 
 def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spec: Mapping,
-            methods: Mapping, first_seed: int) -> pd.DataFrame:
+            methods: Mapping, first_seed: int, interpretation_methods: Mapping | None = None) -> pd.DataFrame:
     """Tidy comparison for one thesis table.
 
     Parameters
@@ -227,6 +268,9 @@ def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spe
     methods : mapping
         The study's method settings (to select the configured Hankel width).
     first_seed : int
+    interpretation_methods : mapping, optional
+        Interpretation -> its method settings where it reads them differently
+        (:func:`modal.thesis.study.interpreted`); the others use ``methods``.
 
     Returns
     -------
@@ -250,7 +294,7 @@ def compare(published: pd.DataFrame, identified: Mapping[str, pd.DataFrame], spe
                 continue
             n = int(pub["column"].split("=")[1]) if pub["column"].startswith("n=") else None
             sel = stats[(stats["method"] == method) & (stats["mode"] == pub["mode"])]
-            cols = methods.get(method, {}).get("cols")
+            cols = (interpretation_methods or {}).get(interp, methods).get(method, {}).get("cols")
             if cols is not None:
                 sel = sel[sel["cols"] == cols]
             if n is not None:

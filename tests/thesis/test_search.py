@@ -160,3 +160,22 @@ def test_summary_cites_the_searches():
     assert r["verdict"] == report.VERDICT_NOT and r["cause"].startswith("unexplained (supposed: the noise is not")
     r = summary_row(explains=True, cause="the noise is not defined")
     assert r["verdict"] == report.VERDICT_CAUSE and r["cause"].startswith("the noise is not defined; search 's'")
+
+
+def test_two_adjacent_era_real_poles_share_one_row_of_the_thesis_layout():
+    # Table 6, n = 4: 2n = 8 states give two real eigenvalues and three complex pairs; the thesis prints one
+    # '*' and then the three pairs at r = 2..4. A TCM real pole (one eigenvalue of an n x n problem) keeps its row.
+    import pandas as pd
+
+    from modal.thesis.tables import aggregate
+
+    omega = [0.17, 1.67, 8.68, 54.06, 77.84]
+    era = pd.DataFrame(dict(method="era", n=4, cols=100, seed=-1, mode=range(1, 6), omega=omega,
+                            real_pole=[True, True, False, False, False], actual=[2.16, 8.65, 19.46, 34.6, 54.06]))
+    stats = aggregate(era, -1).set_index("mode")
+    assert list(stats.index) == [1, 2, 3, 4]
+    assert stats.loc[1, "seed0_real_pole"] and stats.loc[1, "real_pole_frac"] == 1.0
+    assert list(stats.loc[2:, "reproduced"]) == [8.68, 54.06, 77.84]
+    assert list(stats["actual"]) == [2.16, 8.65, 19.46, 34.6]
+    tcm = aggregate(era.assign(method="tcm"), -1).set_index("mode")
+    assert list(tcm.index) == [1, 2, 3, 4, 5] and tcm.loc[2, "seed0_real_pole"]

@@ -56,3 +56,66 @@ def modal_root():
     from pathlib import Path
 
     return Path(__file__).resolve().parents[2]
+
+
+# --------------------------------------------------------------------------- #
+# Sec. 6.4 read through the thesis's guidelines (config interpretations.guideline)
+# --------------------------------------------------------------------------- #
+
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from modal.thesis import study as thesis_study  # noqa: E402
+from modal.thesis.report import assess_table  # noqa: E402
+from modal.thesis.tables import compare, read_published  # noqa: E402
+
+from pathlib import Path  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+
+
+def _config():
+    import yaml
+
+    return yaml.safe_load((REPO / "config" / "config.yaml").read_text())
+
+
+def test_interpreted_overrides_only_what_the_interpretation_names():
+    study = {"beam": "b", "methods": {"cera": {"n_modes": 6, "cols": 1440}, "tcm": {}}, "cols_sweep": [300]}
+    beam = {"samples_per_period": 10, "n_samples": 3594, "n_modes": 6}
+    reading = {"studies": {"cera": {"beam": {"period_mode": 3, "n_samples": 899}, "cols_sweep": [],
+                                    "methods": {"cera": {"n_modes": 3, "eigenproblem": "as_printed"}}}}}
+    read, read_beam = thesis_study.interpreted(study, beam, reading, "cera")
+    assert read["methods"] == {"cera": {"n_modes": 3, "cols": 1440, "eigenproblem": "as_printed"}, "tcm": {}}
+    assert read["cols_sweep"] == [] and read_beam == {**beam, "period_mode": 3, "n_samples": 899}
+    assert study["methods"]["cera"] == {"n_modes": 6, "cols": 1440} and "period_mode" not in beam  # copies
+    assert thesis_study.interpreted(study, beam, reading, "demo") == (study, beam)
+
+
+def test_period_mode_sets_the_sampling_guideline():
+    beam = dict(_config()["beams"]["beam10"], n_samples=10)
+    omega = modal.SimplySupportedBeam(10.0, 20.0, 1.0).natural_frequencies(6)
+    assert thesis_study.beam_record(beam, 0.0).dt == pytest.approx(2 * np.pi / omega[5] / 10, rel=1e-14)
+    guideline = thesis_study.beam_record({**beam, "period_mode": 3}, 0.0)
+    assert guideline.dt == pytest.approx(np.pi / (5 * omega[2]), rel=1e-14)  # Sec. 3.4: T_s = pi / 5 omega_n
+
+
+def test_table_7_reproduces_under_the_guideline_reading():
+    # The CERA's choices reach modal.cera through the study: dropping eigenproblem or singular_values,
+    # or the beam's period_mode, loses the printed digits.
+    config = _config()
+    published = read_published(REPO / "config" / "thesis_tables.csv")
+    base, beam = config["studies"]["cera"], config["beams"]["beam10"]
+    reading = config["interpretations"]["guideline"]
+    study, read_beam = thesis_study.interpreted(base, beam, reading, "cera")
+    study = {**study, "cases": {"c1": {"damping": 0.0, "noise": 0.0}}, "cols_sweep": []}
+    identified = {"guideline": thesis_study.run_study(study, read_beam, reading, config["seeds"])}
+    table = compare(published[published["table"] == 7], identified, config["tables"][7], study["methods"], 0)
+    assert assess_table(table)["guideline"]["n_match"] == 9
+    for slip in ("eigenproblem", "singular_values"):
+        methods = {**study["methods"], "cera": {k: v for k, v in study["methods"]["cera"].items() if k != slip}}
+        if slip == "singular_values":
+            methods["cera"]["singular_values"] = 6
+        frame = thesis_study.run_study({**study, "methods": methods}, read_beam, reading, config["seeds"])
+        cera = frame[frame["method"] == "cera"].sort_values("mode")["omega"].to_numpy()
+        assert not np.array_equal(np.round(cera[:3], 3), [0.434, 1.722, 3.972]), slip

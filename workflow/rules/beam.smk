@@ -20,8 +20,8 @@ rule identify:
         runtime=lambda w: identify_runtime(w.study),
     params:
         code=code_hashes("workflow/scripts/identify.py"),
-        study=lambda w: config["studies"][w.study],
-        beam=lambda w: config["beams"][config["studies"][w.study]["beam"]],
+        study=lambda w: interpreted_study(w.study, w.interpretation)[0],
+        beam=lambda w: interpreted_study(w.study, w.interpretation)[1],
         signals=lambda w: config["interpretations"][w.interpretation],
         seeds=config["seeds"],
         chunk=lambda w: int(w.chunk),
@@ -80,6 +80,11 @@ rule table:
             study_of_table(n): config["studies"][study_of_table(n)]
             for n in table_numbers()
         },
+        beams={
+            study_of_table(n): config["beams"][config["studies"][study_of_table(n)]["beam"]]
+            for n in table_numbers()
+        },
+        interpretations=config["interpretations"],
         seeds=config["seeds"],
     script:
         "../scripts/table.py"

@@ -106,6 +106,20 @@ def study_of_table(number):
     return table_spec(number)["study"]
 
 
+def interpreted_study(study, interpretation):
+    """(study, beam) of one study as one interpretation reads them
+    (modal.thesis.study.interpreted: its own settings of the unstated ones)."""
+    from modal.thesis.study import interpreted
+
+    spec = config["studies"][study]
+    return interpreted(
+        spec,
+        config["beams"][spec["beam"]],
+        config["interpretations"][interpretation],
+        study,
+    )
+
+
 def identified(study):
     """The identified-modes files of one study, one per interpretation."""
     return [

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import modal.thesis.intermediates
 import modal.thesis.report
+import modal.thesis.study
 import modal.thesis.tables
 from _helpers import start_job
 
@@ -21,8 +22,11 @@ for number, csv, md, notes_file in zip(numbers, snakemake.output.csv, snakemake.
     paths = [next(p for p in snakemake.input.identified if Path(p).name == f"{spec['study']}_{i}.csv")
              for i in study["interpretations"]]
     identified = modal.thesis.intermediates.read_interpretations(paths, study["interpretations"], study, seeds)
+    readings = {i: modal.thesis.study.interpreted(study, snakemake.params.beams[spec["study"]],
+                                                  snakemake.params.interpretations[i], spec["study"])[0]["methods"]
+                for i in study["interpretations"]}
     table = modal.thesis.tables.compare(published[published["table"] == number], identified, spec,
-                                        study["methods"], seeds["first"])
+                                        study["methods"], seeds["first"], readings)
     modal.thesis.tables.write_csv(table, csv, "beam")
     notes = modal.thesis.report.table_notes(number, table)
     modal.thesis.report.write_notes(notes_file, notes)
