@@ -287,7 +287,8 @@ def search_problems(config: Mapping, schema) -> list[str]:
     run: an unknown study, a table of another study, a key the study does not
     have, or a setting whose study or beam the schema or :func:`study_problems`
     refuses (e.g. a Hankel larger than a shortened record), named with its values."""
-    from .search import describe, search_settings
+    from .search import describe, search_settings, setting_under
+    from .study import SIGNAL_ORDER
 
     with open(schema, encoding="utf-8") as fh:
         document = yaml.safe_load(fh)
@@ -314,6 +315,14 @@ def search_problems(config: Mapping, schema) -> list[str]:
             found = schema_problems({"beams": {"beam": spec["beam"]},
                                      "studies": {"study": {**spec["study"], "beam": "beam"}}}, parts)
             found = found or study_problems("study", spec["study"], spec["beam"], "its beam")
+            for interp in config["studies"][search["study"]]["interpretations"]:
+                if found or interp not in config["interpretations"]:
+                    break
+                study, beam, signals = setting_under(spec, config["interpretations"][interp], search["study"])
+                found = [f"as interpretations.{interp} reads it: {p}"
+                         for p in study_problems("study", study, beam, "its beam")]
+                found += [f"signals.{m} = {v!r} is not one of {list(SIGNAL_ORDER)}" for m, v in signals.items()
+                          if m != "tcm" and v not in SIGNAL_ORDER]
             problems += [f"{where}: {p.replace('studies.study.', '').replace('beams.', '').removeprefix('study.')}"
                          for p in found]
     return problems

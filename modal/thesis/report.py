@@ -95,7 +95,8 @@ VERDICT_DEFINITIONS = [
     f"'{VERDICT_CLOSE}': not every value matches the printed digits, but every identified "
     f"value is within {100 * CLOSE_DEV:g} % of the printed one (and every printed '*' is a real pole in our first "
     "realisation): a difference in the last printed digit, e.g. of the record length or integration the thesis "
-    "does not state.",
+    "does not state. Where the config names the remaining deviation's cause (`tables.N.cause`), the summary's "
+    "cause column gives it, with what the searches of that table found closest.",
     f"'{VERDICT_NOISE}': the table has noisy cases (the thesis shows one unknown draw; we run n seeds) and passes "
     f"a stated test: each published value p is a new draw from our seed distribution, t = (p - mean) / (std "
     f"sqrt(1 + 1/n)) follows Student's t with n - 1 degrees of freedom, and no value of the table's k is "
@@ -308,9 +309,11 @@ def _assess(cells: pd.DataFrame) -> dict:
                 worst=_where(worst) if worst is not None else "", verdict=verdict, rank=rank, why="; ".join(why))
 
 
-def table_searches(searches, number: int) -> str:
+def table_searches(searches, number: int, closest: bool = False) -> str:
     """What the searches found for one table, in words (the summary's cause):
-    "" when no search covers it."""
+    "" when no search covers it. ``closest``: each search's best setting and
+    its fit, whatever it explains (for a table already within 1 %, whose
+    remaining deviation the searches tried to explain)."""
     if searches is None or not len(searches):
         return ""
     rows = searches[searches["table"] == number]
@@ -320,7 +323,9 @@ def table_searches(searches, number: int) -> str:
         best = f"{row['best']} ({row['best_interpretation']})"
         if str(row["best"]) == str(row["default"]):
             best += ", the config's own setting"
-        if row["explains"]:
+        if closest:
+            words.append(f"{head}closest {best}: {row['best_fit']} ({row['best_verdict']})")
+        elif row["explains"]:
             words.append(f"{head}{best} makes it '{row['best_verdict']}' ({row['best_fit']}); not adopted")
         else:
             words.append(f"{head}no setting explains it; best {best}: {row['best_fit']}")
@@ -375,7 +380,9 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
         ``t_critical`` (the noise test's largest |t| and its Bonferroni bound),
         ``stable`` (whether more seeds could flip the noise test), ``verdict``
         (one of :data:`VERDICTS`), ``cause`` (for the two "not reproduced"
-        verdicts: the cause or "unexplained"), ``why`` (the reason, with the
+        verdicts: the cause or "unexplained"; for "within 1 %" with a config
+        cause: the remaining deviation's cause and the searches that tried
+        it), ``why`` (the reason, with the
         numbers), ``by_interpretation`` (every interpretation's matches and
         verdict). See :data:`VERDICT_DEFINITIONS`.
     """
@@ -412,6 +419,10 @@ def reproduction_summary(tables: dict[int, pd.DataFrame], titles: dict[int, str]
                 cause = ("the grid's records are lost; on the virtual grid that stands in, "
                          + (", ".join(f"'{f['finding']}'" for f in failed) + " does not hold" if failed
                             else "no finding is checked"))
+        elif a["rank"] == 1 and causes.get(number):
+            # within 1 %: the config's cause names what remains, with the searches that tried it
+            searched = table_searches(searches, number, closest=True)
+            cause = f"remaining deviation: {causes[number]}" + (f"; {searched}" if searched else "")
         elif a["rank"] == 5 and causes.get(number):
             a["rank"], cause = 4, causes[number]
         elif a["rank"] == 5:

@@ -47,7 +47,8 @@ def search_settings(search: Mapping, studies: Mapping, beams: Mapping, tables: M
     search : mapping
         ``config["searches"][name]``: ``study``, ``tables`` and ``vary``
         (dotted key -> values: ``beam.<key>``, ``methods.<method>.<key>``,
-        ``noise_model.<key>``).
+        ``noise_model.<key>``, ``signals.<method>``: the signal that method
+        sees, in place of each interpretation's, :data:`SIGNAL_KEYS`).
     studies, beams, tables : mapping
         ``config["studies"]``, ``config["beams"]``, ``config["tables"]``.
 
@@ -56,7 +57,9 @@ def search_settings(search: Mapping, studies: Mapping, beams: Mapping, tables: M
     dict
         ``"s000"``, ``"s001"``, ... (the product of the values, the first key
         varying slowest) -> ``{"values": {key: value}, "default": bool (every
-        value is the study's own), "study": study spec, "beam": beam spec}``.
+        value is the study's own; a searched signal never is), "study": study
+        spec, "beam": beam spec}``; the searched signals are applied per
+        interpretation by :func:`setting_under`.
         The study keeps only the cases the search's tables read, and no CERA
         ``cols_sweep`` (a search varies the width itself).
 
@@ -74,7 +77,10 @@ def search_settings(search: Mapping, studies: Mapping, beams: Mapping, tables: M
     for key in ("noise_sweep", "cols_sweep"):
         base.pop(key, None)
     keys = list(search["vary"])
-    defaults = {key: _get(base, key) for key in keys}
+    for key in keys:
+        if key.startswith("signals.") and key not in SIGNAL_KEYS:
+            raise ValueError(f"vary: {key!r} is not a setting of the study (signals of: {', '.join(SIGNAL_KEYS)})")
+    defaults = {key: _get(base, key) if not key.startswith("signals.") else None for key in keys}
     combos = list(itertools.product(*(search["vary"][key] for key in keys)))
     if len(combos) > MAX_SETTINGS:
         raise ValueError(f"vary: {len(combos)} settings, more than {MAX_SETTINGS}: search fewer values")
@@ -82,12 +88,48 @@ def search_settings(search: Mapping, studies: Mapping, beams: Mapping, tables: M
     for k, values in enumerate(combos):
         spec = copy.deepcopy(base)
         for key, value in zip(keys, values):
-            _set(spec, key, value)
+            if not key.startswith(_SIGNAL_PREFIX):  # signals: see setting_under
+                _set(spec, key, value)
         beam = spec.pop("beam")
         out[f"s{k:03d}"] = {"values": dict(zip(keys, values)),
                             "default": all(defaults[key] == value for key, value in zip(keys, values)),
                             "study": spec, "beam": beam}
     return out
+
+
+#: The signals a search may vary (one signal per method; the TCM's pair is an interpretation's).
+SIGNAL_KEYS = ("signals.era", "signals.cera")
+
+#: How a searched signal's key begins (:func:`setting_under`).
+_SIGNAL_PREFIX = "signals."
+
+
+def setting_under(setting: Mapping, interpretation: Mapping, study_name: str) -> tuple[dict, dict, dict]:
+    """One search setting as one interpretation runs it.
+
+    The interpretation's own reading of the study
+    (:func:`modal.thesis.study.interpreted`) first, then the setting's
+    searched values on top (a searched key wins), and the searched signals
+    (``signals.<method>``) in place of the interpretation's.
+
+    Returns
+    -------
+    study, beam, signals : dict
+        For :func:`modal.thesis.study.run_study`.
+    """
+    from .study import interpreted
+
+    study, beam = interpreted(setting["study"], setting["beam"], interpretation, study_name)
+    study.pop("cols_sweep", None)  # a search varies the width itself
+    signals = {k: v for k, v in interpretation.items() if k != "studies"}
+    spec = {**study, "beam": beam}
+    for key, value in setting["values"].items():
+        if key.startswith(_SIGNAL_PREFIX):
+            signals[key.removeprefix(_SIGNAL_PREFIX)] = value
+        else:
+            _set(spec, key, value)
+    beam = spec.pop("beam")
+    return spec, beam, signals
 
 
 def _key(mapping: Mapping, number):
@@ -124,7 +166,8 @@ SCORE_COLUMNS = ["table", "interpretation", "verdict", "rank", "noisy", "n_compa
                  "n_missing", "mean_abs_dev", "max_abs_dev", "max_t", "log_likelihood"]
 
 
-def score_setting(published, identified: Mapping, tables: Mapping, study: Mapping, first_seed: int):
+def score_setting(published, identified: Mapping, tables: Mapping, study: Mapping, first_seed: int,
+                  interpretation_methods: Mapping | None = None):
     """How well one setting explains the printed values of each table.
 
     Parameters
@@ -139,6 +182,9 @@ def score_setting(published, identified: Mapping, tables: Mapping, study: Mappin
     study : mapping
         The setting's study (its ``methods`` select the Hankel width).
     first_seed : int
+    interpretation_methods : mapping, optional
+        Interpretation -> its method settings where it reads them
+        differently (:func:`setting_under`).
 
     Returns
     -------
@@ -155,7 +201,8 @@ def score_setting(published, identified: Mapping, tables: Mapping, study: Mappin
 
     rows = []
     for number, spec in tables.items():
-        table = compare(published[published["table"] == int(number)], identified, spec, study["methods"], first_seed)
+        table = compare(published[published["table"] == int(number)], identified, spec, study["methods"], first_seed,
+                        interpretation_methods)
         for interp, a in assess_table(table).items():
             rows.append({"table": int(number), "interpretation": interp, **{k: a[k] for k in SCORE_COLUMNS[2:]}})
     return pd.DataFrame(rows, columns=SCORE_COLUMNS)

@@ -36,14 +36,35 @@ def beam_record(spec: Mapping, damping: float) -> Record:
     shortest participating mode, ``period_mode = n_modes``) and ``n_samples``.
     Sec. 3.4's guideline ``T_s <= pi / (5 omega_n)`` is ``samples_per_period:
     10`` of mode n; Sec. 6.1's "one tenth of the shortest period" is that
-    guideline with n = 6.
+    guideline with n = 6. ``damping_model`` (optional, :data:`DAMPING_MODELS`)
+    says how ``damping`` spreads over the modes.
     """
     beam = SimplySupportedBeam(spec["length"], spec["bending_stiffness"], spec["mass_per_length"])
     omega = beam.natural_frequencies(spec["n_modes"])
     dt = 2 * np.pi / omega[spec.get("period_mode", spec["n_modes"]) - 1] / spec["samples_per_period"]
     station = beam.length / spec["stations"]
     sensors = station * np.asarray(spec["sensors"], dtype=float)
-    return beam_impulse_response(beam, spec["n_modes"], station * spec["impact"], sensors, dt, spec["n_samples"], damping)
+    ratios = modal_damping(damping, omega, spec.get("damping_model", "modal"))
+    return beam_impulse_response(beam, spec["n_modes"], station * spec["impact"], sensors, dt, spec["n_samples"], ratios)
+
+
+#: How a case's damping ``zeta`` spreads over the modes (the thesis, Sec. 6.1: "a damping
+#: coefficient of zeta = .05", read as a modal damping ratio; the others are searched for Table 8):
+#: ``modal``, every mode's ratio is zeta (decay zeta omega_r); ``uniform_decay``, every mode decays
+#: as mode 1 does (zeta omega_1, ratio zeta omega_1 / omega_r, mass-proportional damping);
+#: ``stiffness``, ratio zeta omega_r / omega_1 (stiffness-proportional, zeta at mode 1).
+DAMPING_MODELS = ("modal", "uniform_decay", "stiffness")
+
+
+def modal_damping(damping: float, omega, model: str = "modal"):
+    """Modal damping ratios of the modes ``omega`` (rad/s, ascending) under a
+    :data:`DAMPING_MODELS` entry; ``damping`` itself for ``modal``."""
+    if model not in DAMPING_MODELS:
+        raise ValueError(f"damping_model must be one of {', '.join(DAMPING_MODELS)}, got {model!r}")
+    if model == "modal" or damping == 0:
+        return damping
+    omega = np.asarray(omega, dtype=float)
+    return damping * (omega[0] / omega if model == "uniform_decay" else omega / omega[0])
 
 
 def interpreted(study: Mapping, beam: Mapping, interpretation: Mapping, study_name: str) -> tuple[dict, dict]:

@@ -96,3 +96,27 @@ def test_headline_counts():
     frame = pd.DataFrame(dict(claim=["a", "b", "c"], section="6.1", criterion="", holds=["yes", "partly", "no"],
                               numbers=""))
     assert cl.claims_headline(frame) == "Of 3 claims of the thesis checked: 1 hold, 1 hold in part, 1 do not."
+
+
+def test_cera_claims_at_zeta_05_follow_the_numbers():
+    # Sec. 6.4's prose case zeta = .05 (no table): mode 1 changes by 23 % from the undamped case, every mode
+    # degenerates, modes 1 and 2 above the exact frequency and mode 3 below.
+    actual = [0.441, 1.766, 3.972]
+
+    def cera(case, damping, factors):
+        return rows(case, "cera", {-1: [a * f for a, f in zip(actual, factors)]}, actual).assign(damping=damping)
+
+    def data(mode1_05):
+        frame = pd.concat([cera("c1", 0.0, [0.984, 0.975, 1.0]), cera("c2", 0.02, [1.05, 1.02, 0.993]),
+                           cera("c4", 0.05, [0.984 * mode1_05, 1.1, 0.96])], ignore_index=True)
+        return {"cera": frame, "case": {7: "c1", 8: "c2", 9: "c3"}, "cera_cols": None}
+
+    assert cl._c_cera_fundamental_05(data(1.23))[0] == "yes"
+    assert cl._c_cera_fundamental_05(data(1.25))[0] == "partly"
+    assert cl._c_cera_fundamental_05(data(1.10))[0] == "no"
+    assert cl._c_cera_degenerate(data(1.23))[0] == "yes"
+    assert cl._c_cera_signs(data(1.23))[0] == "yes"
+    assert cl._c_cera_signs(data(0.9))[0] == "partly"  # mode 1 below the exact frequency at zeta = .05
+    no_05 = data(1.23)
+    no_05["cera"] = no_05["cera"][no_05["cera"]["case"] != "c4"]
+    assert cl._c_cera_degenerate(no_05)[0] == "no"

@@ -179,3 +179,19 @@ def test_two_adjacent_era_real_poles_share_one_row_of_the_thesis_layout():
     assert list(stats["actual"]) == [2.16, 8.65, 19.46, 34.6]
     tcm = aggregate(era.assign(method="tcm"), -1).set_index("mode")
     assert list(tcm.index) == [1, 2, 3, 4, 5] and tcm.loc[2, "seed0_real_pole"]
+
+
+def test_a_table_within_one_percent_names_its_remaining_cause():
+    # Table 8 under the guideline reading: within 1 %; the config's cause names what remains, with the closest
+    # setting of each search that tried it. Without a config cause the column stays empty.
+    frame = pd.DataFrame([{**cell(k + 1, 10.0 * (k + 1), 10.0 * (k + 1) * 1.004, 0.0), "n_seeds": 1, "std": 0.0,
+                           "printed_match": False} for k in range(3)])
+    searched = pd.DataFrame([dict(search="d", question="q", table=3, n_settings=12, default="(not searched)",
+                                  default_verdict="", default_fit="", best="m = modal", best_interpretation="g",
+                                  best_verdict=report.VERDICT_CLOSE, best_fit="0/3 match", explains=True,
+                                  best_overall="", overall_explains="")])
+    row = report.reproduction_summary({3: frame}, causes={3: "unexplained"}, searches=searched).iloc[0]
+    assert row["verdict"] == report.VERDICT_CLOSE
+    assert row["cause"] == ("remaining deviation: unexplained; search 'd' (12 settings): closest m = modal (g): "
+                            "0/3 match (within 1 %)")
+    assert report.reproduction_summary({3: frame}, searches=searched).iloc[0]["cause"] == ""

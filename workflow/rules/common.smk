@@ -8,6 +8,7 @@ import yaml
 from pathlib import Path
 
 import modal._hashes
+import modal.thesis.claims
 import modal.thesis.dependencies
 import modal.thesis.search
 from modal.thesis.chunks import seed_chunks, study_cases
@@ -332,9 +333,17 @@ CLAIM_STUDIES = [
 ]
 
 
-def claims_interpretation():
-    """The interpretation whose identified modes the claims read (config ``claims``)."""
-    return config.get("claims", {}).get("interpretation", "named")
+def claims_interpretation(study=None):
+    """The interpretation whose identified modes the claims read (config ``claims``):
+    of one study (``claims.studies`` where set), or the default."""
+    if study is None:
+        return config.get("claims", {}).get("interpretation", "named")
+    return modal.thesis.claims.claims_readings(config)[0][study]
+
+
+def claims_studies():
+    """Each claim study as the claims read it (modal.thesis.claims.claims_readings)."""
+    return modal.thesis.claims.claims_readings(config)[1]
 
 
 def grid_identified_file():
@@ -373,9 +382,17 @@ def notebook_parameters(name):
     demo = config["studies"]["demo"]
     return {
         **NOTEBOOK_PATHS,
-        "claims_interpretation": claims_interpretation(),
+        "claims_interpretation": None,
         "claims_config": {
-            k: config.get(k) for k in ("tables", "beams", "studies", "grid")
+            k: config.get(k)
+            for k in (
+                "tables",
+                "beams",
+                "studies",
+                "grid",
+                "claims",
+                "interpretations",
+            )
         },
         "published_file": config["published"],
         "table_numbers": grid_tables(),

@@ -35,7 +35,7 @@ rule claims:
     input:
         code=code_inputs("workflow/scripts/claims.py"),
         identified=[
-            res(f"identified/{s}_{claims_interpretation()}.csv") for s in CLAIM_STUDIES
+            res(f"identified/{s}_{claims_interpretation(s)}.csv") for s in CLAIM_STUDIES
         ],
         grid=grid_identified_file(),
     output:
@@ -49,7 +49,7 @@ rule claims:
     params:
         code=code_hashes("workflow/scripts/claims.py"),
         study_names=CLAIM_STUDIES,
-        studies=config["studies"],
+        studies=claims_studies(),
         seeds=config["seeds"],
         tables=config["tables"],
         beams=config["beams"],

@@ -21,6 +21,7 @@ rule search_setting:
         code=code_hashes("workflow/scripts/search_setting.py"),
         sha256=content_hashes(config["published"]),
         setting=lambda w: search_settings(w.search)[w.setting],
+        study=lambda w: config["searches"][w.search]["study"],
         interpretations=lambda w: {
             i: config["interpretations"][i]
             for i in config["studies"][config["searches"][w.search]["study"]][

@@ -8,9 +8,12 @@ from _helpers import start_job
 start_job(snakemake)
 
 setting, seeds = snakemake.params.setting, snakemake.params.seeds
-identified = {name: modal.thesis.study.run_study(setting["study"], setting["beam"], signals, seeds)
-              for name, signals in snakemake.params.interpretations.items()}
+identified, methods = {}, {}
+for name, reading in snakemake.params.interpretations.items():
+    study, beam, signals = modal.thesis.search.setting_under(setting, reading, snakemake.params.study)
+    identified[name] = modal.thesis.study.run_study(study, beam, signals, seeds)
+    methods[name] = study["methods"]
 published = modal.thesis.tables.read_published(snakemake.input.published)
 scores = modal.thesis.search.score_setting(published, identified, snakemake.params.tables, setting["study"],
-                                           seeds["first"])
+                                           seeds["first"], methods)
 modal.thesis.tables.write_csv(scores, snakemake.output[0])
