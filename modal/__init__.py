@@ -33,9 +33,9 @@ from typing import TYPE_CHECKING
 #: ``modal.<name>`` runs, without importing anything.
 _LAZY_NAMES = {
     "identification": (
-        "FLAGS", "ModalResult", "ModalWarning", "Stabilisation", "StabilityCriteria", "align_shapes", "cera",
-        "decompose", "era", "hankel", "mac", "modal_amplitude_coherence", "modal_phase_collinearity",
-        "stabilisation", "stabilisation_figure", "tcm",
+        "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
+        "align_shapes", "auto_mac", "cera", "decompose", "era", "fdd", "hankel", "mac", "modal_amplitude_coherence",
+        "modal_phase_collinearity", "spectral_support", "stabilisation", "stabilisation_figure", "tcm",
     ),
     "measured": (
         "IdentifyOptions", "OutputError", "available_memory", "identify_record", "memory_needed", "write_identification",
@@ -49,7 +49,7 @@ _LAZY_NAMES = {
     ),
     "signals": (
         "acceleration_offset", "amplitude_spectrum", "correlations", "decay_start", "decimate", "detrend",
-        "integrate_acceleration", "lowpass_fft", "split_record", "zero_phase_filter",
+        "integrate_acceleration", "lowpass_fft", "spectral_density", "split_record", "zero_phase_filter",
     ),
     "structures": (
         "Grid", "Record", "ShakeTest", "SimplySupportedBeam", "SimplySupportedPlate", "add_noise",
@@ -86,9 +86,10 @@ def __dir__():
 
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see; never run (tested against _LAZY_NAMES)
-    from .identification import (FLAGS, ModalResult, ModalWarning, Stabilisation, StabilityCriteria, align_shapes,
-                                 cera, decompose, era, hankel, mac, modal_amplitude_coherence,
-                                 modal_phase_collinearity, stabilisation, stabilisation_figure, tcm)
+    from .identification import (FLAGS, ModalResult, ModalWarning, SingularValueSpectrum, Stabilisation,
+                                 StabilityCriteria, align_shapes, auto_mac, cera, decompose, era, fdd, hankel, mac,
+                                 modal_amplitude_coherence, modal_phase_collinearity, spectral_support,
+                                 stabilisation, stabilisation_figure, tcm)
     from .measured import (IdentifyOptions, OutputError, available_memory, identify_record, memory_needed,
                            write_identification)
     from .records import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
@@ -97,7 +98,7 @@ if TYPE_CHECKING:  # what static type checkers and IDEs see; never run (tested a
                          node_motion, node_shapes, plate_roving_test, read_channel_table, read_geometry,
                          read_pyoma_setup, read_setup, save_geometry, save_setup, write_setups)
     from .signals import (acceleration_offset, amplitude_spectrum, correlations, decay_start, decimate, detrend,
-                          integrate_acceleration, lowpass_fft, split_record, zero_phase_filter)
+                          integrate_acceleration, lowpass_fft, spectral_density, split_record, zero_phase_filter)
     from .structures import (Grid, Record, ShakeTest, SimplySupportedBeam, SimplySupportedPlate, add_noise,
                              ambient_response, beam_impulse_response, damping_ratios, impulse_response, pick_peaks,
                              select_sharpest, shake_test, sharpness, with_noise)

@@ -10,8 +10,14 @@
 reads a record (:func:`modal.read_record`), identifies its modes
 (:func:`modal.write_identification`: NExT correlations for ambient data, the decay
 after the impact for free decay, a stabilisation diagram with automatic mode
-selection) and writes ``DIR/modes.csv``, ``DIR/poles.csv`` and
-``DIR/stabilisation.png``.
+selection, the singular values of the spectral density matrix as a witness)
+and writes ``DIR/modes.csv``, ``DIR/poles.csv``, ``DIR/stabilisation.png``,
+``DIR/mac.csv``, ``DIR/settings.json`` (every setting used, the provenance)
+and ``DIR/report.html`` (one page of it all).
+
+BLAS runs on one thread (threadpoolctl): on this project's records that is
+faster than several (docs: Benchmarks), unless one of the environment
+variables of :data:`THREAD_VARIABLES` says how many threads to use.
 
 ::
 
@@ -70,6 +76,10 @@ EXIT_CANNOT_IDENTIFY = 4
 EXIT_NO_MODES = 5
 EXIT_CANNOT_WRITE = 6
 EXIT_WORKFLOW = 7
+
+#: Environment variables that set BLAS's threads: when one is set, ``modal
+#: identify`` leaves the threads as it says instead of holding BLAS to one.
+THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS")
 
 EPILOG = ("Exit codes: 0 done, 1 internal error, 2 bad options (also an --out that cannot hold the results: "
           "the input file, a file or device, below a file, read-only), 3 unreadable record (also a directory, "
@@ -157,7 +167,7 @@ def parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
     )
     cmd.add_argument("paths", type=Path, nargs="+", metavar="SETUP",
-                     help="a record (.npy .npz .csv .txt .tsv .lvm .uff .unv), or the setups of a roving test: "
+                     help="a record (.npy .npz .csv .txt .tsv .asc .dat .lvm .uff .unv), or the setups of a roving test: "
                           "folders in pyOMA's layout or with a channels.csv beside the record (merged into one "
                           "set of modes)")
     _identify_options(cmd)
@@ -222,8 +232,38 @@ def _written(args, call, subject=""):
                                               "it is left as it was")
 
 
+@contextmanager
+def blas_threads():
+    """Hold BLAS to one thread for the block (threadpoolctl), unless one of
+    :data:`THREAD_VARIABLES` is set: the identification's matrices are too
+    small for threads to pay (docs/benchmarks.md measures it)."""
+    import os
+
+    if any(os.environ.get(name) for name in THREAD_VARIABLES):
+        yield
+        return
+    import numpy  # noqa: F401  threadpoolctl limits the libraries loaded when it is called:
+    import scipy.linalg  # noqa: F401  numpy's and scipy's BLAS (each may ship its own)
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+def _command(args) -> str:
+    """The command line as typed (for settings.json and the report)."""
+    import shlex
+
+    return shlex.join(["modal", *args.argv]) if getattr(args, "argv", None) is not None else None
+
+
 def identify(args) -> int:
     """Run ``modal identify`` with parsed arguments; returns the exit code."""
+    with blas_threads():
+        return _identify(args)
+
+
+def _identify(args) -> int:
     import modal
     from modal.measured import OutputError, check_output
 
@@ -258,11 +298,13 @@ def identify(args) -> int:
     if problems:
         return fail(EXIT_BAD_OPTIONS, f"bad options for {args.path}: {'; '.join(problems)}")
     written, code = _written(args, lambda: modal.write_identification(
-        record, args.out, options, title=args.path.name, log=log, progress=progress), subject=f"{args.path}: ")
+        record, args.out, options, title=args.path.name, log=log, progress=progress, command=_command(args)),
+        subject=f"{args.path}: ")
     if code is not None:
         return code
     result = written[0]
-    log(f"wrote {args.out / 'modes.csv'}, poles.csv and stabilisation.png")
+    log(f"wrote {args.out / 'modes.csv'}, poles.csv, stabilisation.png, mac.csv, settings.json and "
+        f"{args.out / 'report.html'}")
     modes = result.modes
     print(f"{args.path.name}: {len(modes)} modes ({options.max_order // 2} orders, {len(result.poles)} poles)")
     if len(modes):
@@ -295,10 +337,12 @@ def identify_setups(args, options) -> int:
         return fail(EXIT_BAD_FILE, f"cannot read the setups: {exc}")
     written, code = _written(args, lambda: modal.write_setups(
         setups, args.out, options, geometry=geometry, min_setups=args.min_setups, animate=not args.no_animation,
-        log=log))
+        log=log, command=_command(args)))
     if code is not None:
         return code
     merged, results = written
+    log(f"wrote {args.out / 'modes.csv'}, shapes.csv, settings.json, each setup's results in setups/ and "
+        f"{args.out / 'report.html'}")
     modes = merged.modes
     print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
           f"{args.min_setups or -(-len(setups) // 2)} setups); shapes at {merged.shapes['node'].nunique()} nodes "
@@ -363,6 +407,7 @@ def campaign(args) -> int:
 
 def main(argv=None) -> int:
     args = parser().parse_args(argv)
+    args.argv = [str(a) for a in (sys.argv[1:] if argv is None else argv)]
     try:
         return campaign(args) if args.command == "campaign" else identify(args)
     except KeyboardInterrupt:

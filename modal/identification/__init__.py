@@ -4,12 +4,14 @@ The generalised Hankel matrix (Eq. 34), the Eigensystem Realization
 Algorithm (Eqs. 34-45), the Temporal Correlation Method (Eqs. 21-31), the
 Constrained ERA (Eqs. 46-52), accuracy indicators (MAC, MPC, MAMC), the
 common result (:class:`ModalResult`) and the stabilisation diagram with
-automatic mode selection (drawn by :func:`stabilisation_figure`).
+automatic mode selection (drawn by :func:`stabilisation_figure`), and
+its spectral witness, frequency domain decomposition (:func:`fdd`).
 """
 
 from ._cera import cera
 from ._era import era
 from ._era_kernels import decompose
+from ._fdd import SingularValueSpectrum, auto_mac, fdd, spectral_support
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
@@ -21,7 +23,8 @@ from ._tcm import tcm
 # other subpackages (a channel table checks its quantities against QUANTITIES); the names
 # below are also re-exported by modal.
 __all__ = [
-    "FLAGS", "ModalResult", "ModalWarning", "Stabilisation", "StabilityCriteria", "align_shapes", "cera",
-    "decompose", "era", "hankel", "mac", "modal_amplitude_coherence", "modal_phase_collinearity",
-    "stabilisation", "stabilisation_figure", "tcm",
+    "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
+    "align_shapes", "auto_mac", "cera", "decompose", "era", "fdd", "hankel", "mac", "modal_amplitude_coherence",
+    "modal_phase_collinearity",
+    "spectral_support", "stabilisation", "stabilisation_figure", "tcm",
 ]

@@ -179,6 +179,7 @@ def identify_record(
     log: Callable[[str], None] | None = None,
     progress: Callable[[int, int], None] | None = None,
     channel_labels=None,
+    details: dict | None = None,
     **keywords,
 ) -> tuple[Stabilisation, float]:
     """Modes of a measured record, as ``modal identify`` finds them.
@@ -203,6 +204,14 @@ def identify_record(
     :func:`stabilisation` with ``rows`` block rows and as many columns as the
     data allow (free decay: at most ``10 rows``, the decay is then long gone
     into noise for lightly damped structures sampled at ``2.5 fmax``).
+
+    The spectral witness: the singular values of the spectral density matrix
+    of the record as identified (after decimation and filters; :func:`modal.fdd`),
+    and each selected mode checked against their peaks
+    (:func:`modal.spectral_support`): ``modes`` gains the columns
+    ``sv_peak_hz``, ``sv_number``, ``sv_mac`` and ``spectral_support``, and a
+    mode without a peak near it has ``no spectral peak`` among its ``flag``
+    reasons (where the selection writes a ``flag`` column).
 
     Refused with ``ValueError`` before the work: options the record cannot
     take (:meth:`IdentifyOptions.record_problems`: fmax above its Nyquist
@@ -231,6 +240,13 @@ def identify_record(
     channel_labels : sequence, optional
         How messages name the channels used; default the record's channel
         numbers.
+    details : dict, optional
+        Filled with what the identification chose and computed besides the
+        result: ``"settings"`` (a dict of plain values: the sampling rates,
+        decimation factor, block rows and columns, lags, references, segments,
+        the lowest spectral peak, the decay's start, the orders, the Welch
+        segment; what ``settings.json`` records) and ``"spectrum"`` (the
+        :class:`modal.SingularValueSpectrum`).
     **keywords
         Options (fields of :class:`IdentifyOptions`: ``max_order``, ``fmax``,
         ``rows``, ``refs``, ``highpass_hz``, ``quantities``, ...) given one by
@@ -242,6 +258,7 @@ def identify_record(
     dt : float
         The sampling interval after decimation.
     """
+    from ..identification import fdd
     from ..signals import correlations
     from ..signals import decay_start, decimate, detrend, zero_phase_filter
 
@@ -249,6 +266,7 @@ def identify_record(
     options = identify_options(options, **keywords)
     excitation, max_order, fmax, rows = options.excitation, options.max_order, options.fmax, options.rows
     dt = positive_float("dt", dt)
+    chosen = {"fs_record_hz": 1 / dt, "decimation": 1, "lowest_peak_hz": None}
     acc = np.asarray(acc)
     if acc.ndim != 2:
         raise ValueError(f"acc must be a record of shape (n_samples, n_channels), got shape {acc.shape}")
@@ -267,12 +285,14 @@ def identify_record(
         if factor >= 2:
             log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
             y, dt = decimate(y, dt, factor)
+            chosen["decimation"] = factor
         else:
             log(f"fmax = {fmax:g} Hz: no decimation ({1 / dt:g} Hz is below 2 x 2.5 fmax); "
                 f"modes are selected below {fmax:g} Hz")
         rows = min_rows if rows is None else rows
     elif rows is None:
         low = lowest_peak_hz(y, dt)
+        chosen["lowest_peak_hz"] = low
         if low is None:
             log(f"no spectral peak found: {min_rows} block rows, no decimation")
             rows = min_rows
@@ -280,6 +300,7 @@ def identify_record(
             factor = max(1, int(1 / (dt * AUTO_ROWS * low / AUTO_PERIODS)))
             if factor >= 2:
                 y, dt = decimate(y, dt, factor)
+                chosen["decimation"] = factor
             rows = max(min_rows, math.ceil(AUTO_PERIODS / (low * dt)))
             log(f"lowest spectral peak {low:.4g} Hz: {rows} block rows span {rows * dt:.3g} s "
                 f"({AUTO_PERIODS} periods of it)" + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "")
@@ -297,13 +318,16 @@ def identify_record(
         log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
         data, start, cols = correlations(y, n_lags, refs=refs), 0, None
         n_segments = min(SEGMENTS, y.shape[0] // (2 * n_lags))
+        chosen.update(n_lags=n_lags, references=[labels[r] for r in (range(n_channels) if refs is None else refs)])
         if n_segments >= MIN_SEGMENTS:
             length = y.shape[0] // n_segments
             segments = [correlations(y[k * length:(k + 1) * length], n_lags, refs=refs) for k in range(n_segments)]
             log(f"uncertainty: {n_segments} segments of {length} samples")
+            chosen.update(uncertainty_segments=n_segments, segment_samples=length)
         else:
             segments = None
             log(f"no uncertainty: the record holds fewer than {MIN_SEGMENTS} segments of twice {n_lags} lags")
+            chosen.update(uncertainty_segments=0, segment_samples=None)
     else:
         segments = None  # a free decay is one event: no segments to compare
         start = decay_start(y)
@@ -313,14 +337,56 @@ def identify_record(
         if cols < 1:
             raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
         _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None)
+        chosen.update(decay_start_sample=int(start), decay_start_s=start * dt)
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
                            progress=progress, quantities=options.quantities, segments=segments)
+    spectrum = fdd(y if excitation == "ambient" else y[start:], dt)
+    log(f"spectral witness: singular values of the spectral density matrix (Welch, {spectrum.nperseg}-sample "
+        f"segments, {spectrum.df:.3g} Hz resolution)")
+    result = with_spectral_witness(result, spectrum)
+    unsupported = result.modes.loc[~result.modes["spectral_support"].astype(bool), "freq_hz"]
+    if len(unsupported):
+        log("no singular-value peak near " + ", ".join(f"{f:.4g}" for f in unsupported) + " Hz")
+    if details is not None:
+        chosen.update(fs_identified_hz=1 / dt, channels=list(labels), n_samples=int(y.shape[0]), rows=int(rows),
+                      cols=int(cols) if cols is not None else int(data.shape[-2] - rows),
+                      orders={"first": 2, "last": int(max_order), "step": 2}, welch_nperseg=spectrum.nperseg,
+                      welch_df_hz=spectrum.df)
+        details.update(settings=chosen, spectrum=spectrum)
     return result, dt
 
 
+#: The reason a mode without a singular-value peak near it carries in ``flag``.
+NO_SPECTRAL_PEAK = "no spectral peak"
+
+
+def with_spectral_witness(result: Stabilisation, spectrum) -> Stabilisation:
+    """``result`` with its modes checked against the singular-value spectrum
+    (:func:`modal.spectral_support`, on the complex shapes as identified):
+    the columns ``sv_peak_hz``, ``sv_number``, ``sv_mac``, ``spectral_support``
+    added to ``modes`` and, where ``modes`` has a ``flag`` column, the reason
+    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons."""
+    import dataclasses
+
+    from ..identification import spectral_support
+
+    modes = result.modes.copy()
+    shapes = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
+    support = spectral_support(spectrum, modes["freq_hz"].to_numpy(dtype=float), shapes,
+                               damping=modes["damping"].to_numpy(dtype=float))
+    for column in support.columns:
+        modes[column] = support[column].to_numpy()
+    if "flag" in modes:
+        flags = modes["flag"].fillna("").astype(str)
+        lacking = ~support["spectral_support"].to_numpy(dtype=bool)
+        modes["flag"] = pd.Series([("; ".join(filter(None, [f, NO_SPECTRAL_PEAK])) if lack else f)
+                                   for f, lack in zip(flags, lacking)], index=modes.index, dtype=object)
+    return dataclasses.replace(result, modes=modes)
+
+
 def write_identification(record, out, options: IdentifyOptions | str | None = None, *, title=None, log=None,
-                         progress=None, **keywords) -> tuple[Stabilisation, float]:
+                         progress=None, command=None, **keywords) -> tuple[Stabilisation, float]:
     """Identify a record's modes and write them to the folder ``out``.
 
     What ``modal identify`` and the workflow's measured records both do:
@@ -330,7 +396,10 @@ def write_identification(record, out, options: IdentifyOptions | str | None = No
       ``freq_std_hz`` (standard deviation of the estimate), ``freq_spread_hz``
       (spread over the model orders), ``damping``, ``damping_std`` and
       ``damping_spread`` as ratios to critical
-      (fractions, not %), ``n_poles``, ``mpc``, ``mamc``) and its shape, one
+      (fractions, not %), ``n_poles``, ``mpc``, ``mamc``, the selection's
+      ``flag`` where it gives one, and the spectral witness: ``sv_peak_hz``,
+      ``sv_number``, ``sv_mac``, ``spectral_support``, :func:`modal.spectral_support`)
+      and its shape, one
       column per channel: ``phi_<name>`` when the record names its channels
       (a CSV header, ``.lvm`` or UFF names: ``record.channels["name"]``),
       else ``phi_<number>`` (the record's 0-based channel numbers; so too when
@@ -340,12 +409,18 @@ def write_identification(record, out, options: IdentifyOptions | str | None = No
     - ``out/complex_shapes.csv``: the shapes as identified, one row per mode
       and channel (``mode``, ``channel``, ``re``, ``im``, ``magnitude``,
       ``phase_deg``);
+    - ``out/mac.csv`` and ``out/mac.png``: the MAC of every pair of the
+      selected modes' shapes (:func:`modal.auto_mac`);
+    - ``out/singular_values.csv``: the singular-value spectrum (``freq_hz``,
+      ``sv1``, ``sv2``: the record's units squared per Hz);
     - ``out/candidates.csv``: clusters that recur too rarely to be modes;
     - ``out/poles.csv``: every pole of the diagram;
-    - ``out/stabilisation.png``: the diagram (:func:`stabilisation_figure`);
-    - ``out/settings.json``: the options used (:meth:`IdentifyOptions.to_dict`),
-      the record's sampling rate and the one identified after decimation,
-      the package version.
+    - ``out/stabilisation.png``: the diagram over the singular values
+      (:func:`stabilisation_figure`);
+    - ``out/settings.json``: every setting used (:func:`write_settings`),
+      those chosen from the record included, and the provenance;
+    - ``out/report.html``: one self-contained page of all this
+      (:func:`modal.measured.identification_report`).
 
     The folder is complete or untouched: ``out`` is checked first
     (:func:`check_output`: not the record itself, not a file or device, on a
@@ -369,6 +444,9 @@ def write_identification(record, out, options: IdentifyOptions | str | None = No
         As :func:`identify_record`.
     title : str, optional
         Title of the diagram.
+    command : str, optional
+        The command that asked for the results (``settings.json`` and the
+        report name it); default this process's command line.
 
     Returns
     -------
@@ -387,46 +465,139 @@ def write_identification(record, out, options: IdentifyOptions | str | None = No
         Writing failed part-way (e.g. no space left); ``out`` is untouched.
     """
     from ._output import check_output, staged_folder
+    from ._report import identification_report
 
     options = identify_options(options, **keywords)
-    out = check_output(out, inputs=[record.path] if getattr(record, "path", None) else [])
+    path = getattr(record, "path", None)
+    out = check_output(out, inputs=[path] if path else [])
     options.check_record(record.acc.shape[1], record.fs)
     channels, _ = options.channel_choice(record.acc.shape[1])
     columns = shape_columns(record, channels)
-    with staged_folder(out) as staging:
-        result, dt = identify_record(record.acc, record.dt, options, log=log, progress=progress)
-        write_results(staging, result, dt, columns, fmax=options.fmax, title=title)
-        write_settings(staging, options, record.dt, dt)
+    steps, details = [], {}
+
+    def noted(message):
+        steps.append(message)
+        if log is not None:
+            log(message)
+
+    with staged_folder(out) as staging, kept_warnings() as caught:
+        result, dt = identify_record(record.acc, record.dt, options, log=noted, progress=progress, details=details)
+        write_results(staging, result, dt, columns, fmax=options.fmax, title=title, spectrum=details["spectrum"])
+        settings = write_settings(staging, options, record.dt, dt, chosen=details["settings"],
+                                  inputs=[path] if path else [], command=command, criteria=result.criteria)
+        identification_report(staging, result, settings, title=title or (path.name if path else "record"),
+                              steps=steps, warnings=[str(w.message) for w in caught])
     return result, dt
 
 
-def write_settings(folder, options: IdentifyOptions, dt_record, dt) -> None:
-    """``folder/settings.json``: the options of an identification, the
-    record's sampling rate and the one identified (after decimation) and the
-    package's version: what reproduces the results beside it."""
-    import json
+class kept_warnings:
+    """Record the warnings of a block (for the report) and issue them again
+    when it ends, so that callers see them as before."""
+
+    def __enter__(self):
+        import warnings
+
+        self._context = warnings.catch_warnings(record=True)
+        self.caught = self._context.__enter__()
+        warnings.simplefilter("always")
+        return self.caught
+
+    def __exit__(self, *exc):
+        import warnings
+
+        self._context.__exit__(*exc)
+        for w in self.caught:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        return False
+
+
+def provenance(inputs=(), command=None) -> dict:
+    """Where results came from: the package's version and those of its
+    numerical dependencies, the Python version, the command (default this
+    process's command line), the date (UTC) and each input file's path, size
+    and sha256."""
+    import datetime
+    import platform
+    import shlex
+    import sys
     from importlib.metadata import PackageNotFoundError, version
     from pathlib import Path
 
-    try:
-        package = version("modal-identification")
-    except PackageNotFoundError:  # run from a source tree that was not installed
-        package = None
-    settings = {"options": options.to_dict(), "fs_record_hz": 1 / dt_record, "fs_identified_hz": 1 / dt,
-                "decimation": round(dt / dt_record), "version": package}
-    (Path(folder) / "settings.json").write_text(json.dumps(settings, indent=2) + "\n")
+    from .._hashes import file_hash
+
+    versions = {}
+    for name in ("modal-identification", "numpy", "scipy", "pandas", "matplotlib"):
+        try:
+            versions[name] = version(name)
+        except PackageNotFoundError:  # run from a source tree that was not installed
+            versions[name] = None
+    files = []
+    for source in inputs:
+        source = Path(source)
+        files.append({"path": str(source.resolve()), "bytes": source.stat().st_size, "sha256": file_hash(source)})
+    return {"version": versions["modal-identification"], "packages": versions,
+            "python": platform.python_version(),
+            "command": command if command is not None else shlex.join([Path(sys.argv[0]).name, *sys.argv[1:]]),
+            "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC"),
+            "inputs": files}
 
 
-def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=None) -> None:
-    """Write a record's identification into ``folder`` (which exists):
-    ``modes.csv`` with a shape column per channel (``columns``, e.g. from
-    :func:`shape_columns`), ``complex_shapes.csv``, ``candidates.csv``,
-    ``poles.csv`` and ``stabilisation.png`` (drawn up to ``fmax``, default
-    the Nyquist frequency of ``dt``), as :func:`write_identification`
-    describes them."""
+def write_settings(folder, options: IdentifyOptions, dt_record, dt, *, chosen=None, inputs=(), command=None,
+                   criteria=None) -> dict:
+    """``folder/settings.json``: what reproduces the results beside it.
+
+    Keys: ``options`` (:meth:`IdentifyOptions.to_dict`: every option,
+    ``null`` for one left to the record), ``fs_record_hz``,
+    ``fs_identified_hz`` and ``decimation``, ``chosen`` (what the
+    identification chose from the record: the ``details["settings"]`` of
+    :func:`identify_record`: block rows and columns, lags, references,
+    segments, orders, the lowest spectral peak, the Welch segment), ``criteria``
+    (the :class:`modal.StabilityCriteria` of the selection), ``version`` (the
+    package's) and ``provenance`` (:func:`provenance`: versions, command,
+    date, the sha256 of every input file). ``options`` rebuilds the options
+    (``IdentifyOptions.from_mapping(settings["options"])``).
+
+    Returns
+    -------
+    dict
+        What was written.
+    """
+    import dataclasses
+    import json
     from pathlib import Path
 
-    from ..identification import stabilisation_figure
+    origin = provenance(inputs, command)
+    top = {"fs_record_hz": 1 / dt_record, "fs_identified_hz": 1 / dt, "decimation": round(dt / dt_record)}
+    chosen = {k: v for k, v in (chosen or {}).items() if k not in top}
+    settings = {"options": options.to_dict(), **top, "chosen": _plain(chosen),
+                "criteria": dataclasses.asdict(criteria) if criteria is not None else None,
+                "version": origin["version"], "provenance": origin}
+    (Path(folder) / "settings.json").write_text(json.dumps(settings, indent=2) + "\n")
+    return settings
+
+
+def _plain(value):
+    """``value`` with numpy scalars and tuples as JSON's plain values."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=None, spectrum=None) -> None:
+    """Write a record's identification into ``folder`` (which exists):
+    ``modes.csv`` with a shape column per channel (``columns``, e.g. from
+    :func:`shape_columns`), ``complex_shapes.csv``, ``mac.csv`` and
+    ``mac.png``, ``candidates.csv``, ``poles.csv`` and ``stabilisation.png``
+    (drawn up to ``fmax``, default the Nyquist frequency of ``dt``, over the
+    singular values of ``spectrum`` when given, which also gives
+    ``singular_values.csv``), as :func:`write_identification` describes them."""
+    from pathlib import Path
+
+    from ..identification import auto_mac, stabilisation_figure
 
     folder = Path(folder)
     modes = result.modes.copy()
@@ -440,10 +611,43 @@ def write_results(folder, result: Stabilisation, dt, columns, fmax=None, title=N
         "re": shapes.T.real.ravel(), "im": shapes.T.imag.ravel(), "magnitude": np.abs(shapes.T).ravel(),
         "phase_deg": np.degrees(np.angle(shapes.T)).ravel(),
     }).to_csv(folder / "complex_shapes.csv", index=False, float_format="%.6g")
+    numbers = modes["mode"].to_numpy(dtype=int)
+    matrix = auto_mac(shapes if shapes.shape == result.shapes.shape else result.shapes)
+    pd.DataFrame(matrix, index=pd.Index(numbers, name="mode"), columns=[str(n) for n in numbers]) \
+        .to_csv(folder / "mac.csv", float_format="%.4f")
+    mac_figure(matrix, numbers, modes["freq_hz"].to_numpy(dtype=float)).savefig(folder / "mac.png", dpi=100)
     result.candidates.to_csv(folder / "candidates.csv", index=False, float_format="%.6g")
     result.poles.to_csv(folder / "poles.csv", index=False, float_format="%.6g")
-    figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title)
+    if spectrum is not None:
+        pd.DataFrame({"freq_hz": spectrum.freq_hz,
+                      **{f"sv{k + 1}": spectrum.values[:, k] for k in range(spectrum.values.shape[1])}}) \
+            .to_csv(folder / "singular_values.csv", index=False, float_format="%.6g")
+    figure = stabilisation_figure(result, fmax=fmax or 0.5 / dt, title=title, spectrum=spectrum)
     figure.savefig(folder / "stabilisation.png", dpi=120)
+
+
+def mac_figure(matrix, numbers, freq_hz=None):
+    """The MAC matrix of the selected modes as a picture: a grey scale from 0
+    (white) to 1 (black), each value printed. Returns a matplotlib ``Figure``."""
+    from matplotlib.figure import Figure
+
+    n = len(numbers)
+    size = min(9.0, 2.2 + 0.45 * n)
+    figure = Figure(figsize=(size, size * 0.85), layout="constrained")
+    ax = figure.subplots()
+    image = ax.imshow(matrix if n else np.zeros((1, 1)), cmap="Greys", vmin=0, vmax=1)
+    labels = [f"{m}" if freq_hz is None else f"{m}: {f:.3g} Hz" for m, f in
+              zip(numbers, freq_hz if freq_hz is not None else numbers)]
+    ax.set_xticks(range(n), labels, rotation=90, fontsize="small")
+    ax.set_yticks(range(n), labels, fontsize="small")
+    if n <= 20:
+        for i in range(n):
+            for j in range(n):
+                ax.text(j, i, f"{matrix[i, j]:.2f}", ha="center", va="center", fontsize=7,
+                        color="white" if matrix[i, j] > 0.5 else "black")
+    ax.set_title("MAC of the selected modes" if n else "MAC: no mode selected", fontsize="medium")
+    figure.colorbar(image, ax=ax, shrink=0.8, label="MAC")
+    return figure
 
 
 def shape_columns(record, channels) -> list[str]:

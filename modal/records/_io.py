@@ -1,5 +1,5 @@
 """Reading and writing measured records: NumPy ``.npy`` and ``.npz``, CSV and
-other delimited text, LabVIEW ``.lvm`` (via ``lvm-read``) and Universal File
+other delimited or whitespace-separated text (``.asc``, ``.dat``), LabVIEW ``.lvm`` (via ``lvm-read``) and Universal File
 Format data set 58 (via ``pyuff``).
 
 A record is an array ``acc`` of shape ``(n_samples, n_channels)`` sampled
@@ -183,12 +183,16 @@ _DELIMITERS = (",", ";", "\t", "|")
 
 
 def _sniff_delimiter(lines, decimal):
-    """The delimiter on every sampled line, most often at least once per line; else whitespace."""
+    """The delimiter on every sampled line, most often at least once per line; else whitespace (also
+    when tabs and spaces both separate the numbers of a line)."""
     sample = [line for line in lines if line.strip()][-20:]
     best, count = None, 0
     for candidate in _DELIMITERS:
         if candidate == decimal or not sample:
             continue
+        if candidate == "\t" and any(" " in cell.strip() or not cell.strip()
+                                      for line in sample for cell in line.strip().split("\t")):
+            continue  # tabs among spaces, or runs of them (an .asc export's columns): whitespace separates
         fewest = min(line.count(candidate) for line in sample)
         if fewest > count:
             best, count = candidate, fewest
@@ -251,12 +255,18 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
         raise ValueError(f"{path}: fewer than 2 rows of numbers (delimiter {delimiter or 'whitespace'!r}, "
                          f"decimal {decimal!r}); pass delimiter=, decimal= or skip_rows=")
     width = len(rows[0][1])
-    for line, row in rows:
+    separated = "whitespace-separated values" if delimiter is None else f"values separated by {delimiter!r}"
+    for k, (line, row) in enumerate(rows):
         if len(row) != width:
-            raise ValueError(f"{path}: row {line} has {len(row)} columns, row {rows[0][0]} has {width}: "
-                             "channels of unequal length (or a different delimiter: pass delimiter=)")
-    table = np.empty((len(rows), width))
-    for i, (line, row) in enumerate(rows):
+            cut = " (the last row: is the file cut short?)" if k == len(rows) - 1 else ""
+            raise ValueError(f"{path}: ragged rows (channels of unequal length): row {line} has {len(row)} {separated}, row {rows[0][0]} has "
+                             f"{width}{cut}: every row must hold one value per column (a value missing or extra, "
+                             "or another delimiter: pass delimiter=)")
+    table = _fast_table(rows, decimal)
+    slow = table is None
+    if slow:
+        table = np.empty((len(rows), width))
+    for i, (line, row) in enumerate(rows if slow else []):
         for j, cell in enumerate(row):
             if not cell.strip():
                 raise ValueError(f"{path}: row {line}, column {j + 1} is empty")
@@ -277,6 +287,19 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
         dt, acc = 1.0 / positive_float("fs", fs), table
     acc = _as_record(acc)
     return MeasuredRecord(acc, dt, _channels(acc.shape[1], **({"name": names} if names else {})), path)
+
+
+def _fast_table(rows, decimal) -> np.ndarray | None:
+    """The rows' cells as one float array when every cell is a finite
+    number with a point as decimal mark (numpy parses them at C speed); else
+    None, and the caller's cell-by-cell pass names the first bad cell."""
+    if decimal != ".":
+        return None
+    try:
+        table = np.array([row for _, row in rows], dtype=float)
+    except (ValueError, TypeError):
+        return None
+    return table if np.all(np.isfinite(table)) else None
 
 
 def _header_names(headers, width):
@@ -365,7 +388,7 @@ def _file_kind(mode: int) -> str:
 
 
 _LOADERS = {".npy": _load_npy, ".npz": _load_npz, ".csv": _load_csv, ".txt": _load_csv, ".tsv": _load_csv,
-            ".lvm": _load_lvm, ".uff": _load_uff, ".unv": _load_uff}
+            ".asc": _load_csv, ".dat": _load_csv, ".lvm": _load_lvm, ".uff": _load_uff, ".unv": _load_uff}
 
 
 def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> MeasuredRecord:
@@ -377,8 +400,10 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
         One array ``(n_samples, n_channels)`` or ``(n_samples,)``; pass ``fs``.
     ``.npz``
         An array ``acc`` (or ``y``) and ``dt`` (s) or ``fs`` (Hz).
-    ``.csv``, ``.txt``, ``.tsv``
-        Delimited numbers. Leading rows with text (names, units) are headers,
+    ``.csv``, ``.txt``, ``.tsv``, ``.asc``, ``.dat``
+        Delimited numbers: ``, ; tab |`` when every row holds one (sniffed),
+        else whitespace (the ``.asc`` export of ambient test systems: columns
+        separated by spaces or tabs, however many). Leading rows with text (names, units) are headers,
         and so is a first row of whole numbers (node ids) above data printed
         with decimals. Without ``fs`` the first column is time in s; with
         ``fs`` a uniformly increasing first column is still time, dropped,
@@ -421,8 +446,9 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
         a device: refused before opening, which could block or never end), an
         empty or non-numeric cell, NaN or inf, data that are not real numbers
         (booleans, complex, strings, ``datetime64``, ``timedelta64``), channels
-        of unequal length, missing or contradictory sampling rate, a
-        channels-first array.
+        of unequal length (a text file's ragged rows: the message names the
+        first row whose count of values differs), missing or contradictory
+        sampling rate, a channels-first array.
     """
     path = Path(path)
     ext = path.suffix.lower()

@@ -133,11 +133,11 @@ def identify_setup(setup: Setup, options=None, **keywords) -> tuple[Stabilisatio
         says those.
     **keywords
         Options, and :func:`modal.identify_record`'s ``log``, ``progress``,
-        ``criteria``.
+        ``criteria``, ``details``.
     """
     from ..measured import identify_options, identify_record
 
-    calls = {k: keywords.pop(k) for k in ("log", "progress", "criteria") if k in keywords}
+    calls = {k: keywords.pop(k) for k in ("log", "progress", "criteria", "details") if k in keywords}
     options = identify_options(options, **keywords)
     given = [name for name in ("channels", "refs", "quantities") if getattr(options, name) is not None]
     if given:

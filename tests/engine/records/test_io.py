@@ -215,3 +215,56 @@ def test_lvm_multi_x_columns(tmp_path, acc):
     assert record.channels["unit"].tolist() == ["g"]
     assert record.fs == pytest.approx(FS_NI, rel=2e-4)  # not the rounded Delta_X's 1652.9 Hz
     assert not (tmp_path / "rec.lvm.pkl").exists()
+
+
+def _asc(path, header, table, fmt="%.10e", gap="   "):
+    """An .asc export: header lines, then columns separated by runs of spaces and tabs."""
+    lines = [*header, *(gap.join(fmt % v for v in row) + "\t" for row in table)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+def test_asc_reads_as_the_same_csv(tmp_path, acc):
+    """A whitespace-separated .asc record with header lines (title, names,
+    units) gives exactly the arrays, rate and channel names of the same data
+    as CSV."""
+    t = DT * np.arange(acc.shape[0])
+    table = np.column_stack([t, acc])
+    asc = _asc(tmp_path / "ambient.asc", ["# Ambient vibration test of building A", "Time  acc_1  acc_2  acc_3", "s  g  g  g"],
+               table, fmt="%.17g")
+    csv = tmp_path / "ambient.csv"
+    np.savetxt(csv, table, delimiter=",", header="Time,acc_1,acc_2,acc_3", comments="", fmt="%.17g")
+    from_asc, from_csv = read_record(asc), read_record(csv)
+    np.testing.assert_array_equal(from_asc.acc, from_csv.acc)
+    np.testing.assert_array_equal(from_asc.acc, acc)
+    assert from_asc.dt == from_csv.dt == pytest.approx(DT, rel=1e-12)
+    assert list(from_asc.channels["name"]) == ["acc_1", "acc_2", "acc_3"]
+    dat = _asc(tmp_path / "ambient.dat", [], acc, gap="\t \t")
+    got, dt = load_record(dat, fs=200)
+    np.testing.assert_allclose(got, acc, rtol=1e-10)
+
+
+@pytest.mark.parametrize("where, message", [
+    (10, r"row 13 has 3 whitespace-separated values, row 3 has 4: every row must hold one value per column"),
+    (63, r"row 66 has 3 whitespace-separated values, row 3 has 4 \(the last row: is the file cut short\?\)"),
+])
+def test_ragged_asc_is_refused_naming_the_row(tmp_path, acc, where, message):
+    t = DT * np.arange(acc.shape[0])
+    path = _asc(tmp_path / "ragged.asc", ["Time acc_1 acc_2 acc_3", "s g g g"], np.column_stack([t, acc]))
+    lines = path.read_text().splitlines()
+    lines[2 + where] = " ".join(lines[2 + where].split()[:3])  # one value missing (1-based line 3 + where)
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=f"ragged.asc: ragged rows \\(channels of unequal length\\): {message}"):
+        read_record(path)
+
+
+def test_a_bad_cell_is_named_also_when_the_rest_is_numbers(tmp_path, acc):
+    """The table is parsed at once when every cell is a number; one that is
+    not (or NaN) still gets its row and column named."""
+    path = _asc(tmp_path / "bad.asc", [], acc)
+    lines = path.read_text().splitlines()
+    cells = lines[40].split()
+    lines[40] = "  ".join([cells[0], "nan", cells[2]])
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=r"row 41, column 2: 'nan' is not a finite number"):
+        read_record(path, fs=200)

@@ -1,0 +1,243 @@
+"""Frequency domain decomposition (FDD): the singular values of a record's
+spectral density matrix, a witness of the modes that the time-domain
+identification selects.
+
+Brincker, Zhang and Andersen (2001), "Modal identification of output-only
+systems using frequency domain decomposition", Smart Mater. Struct. 10:
+under broadband excitation the spectral density matrix near a lightly damped
+mode is about ``d(f) psi psi^H``, so the first singular value peaks at each
+mode (the second at the weaker of two close modes) and its singular vector
+there is the mode shape. A mode selected from the stabilisation diagram with
+no such peak near it is one that no spectrum of the record confirms.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from .._checks import finite_array, nonnegative_float, positive_int
+from ._indicators import mac
+
+#: Singular values kept per frequency: the first peaks at every mode, the
+#: second at the weaker of two close ones; more would add noise peaks.
+N_VALUES = 2
+#: A peak of a singular value (10 log10) must stand this far above the
+#: higher of the troughs on either side (``scipy.signal.find_peaks``
+#: prominence): some 5 standard deviations of a Welch estimate averaged
+#: over about 15 segments (+-1.1 dB), so noise rarely makes one.
+PEAK_PROMINENCE_DB = 6.0
+#: ... and its level this far above the median of that singular value within
+#: :data:`PEAK_WINDOW` of its frequency (at least :data:`PEAK_WINDOW_BINS`
+#: bins either side): a noise peak stands a few dB above its neighbours'
+#: median, a mode's above a floor of noise around it (for a mode damped 4 %,
+#: the median of +-25 % lies some 10 dB below its peak; 10 % would leave 4).
+PEAK_HEIGHT_DB = 6.0
+PEAK_WINDOW = 0.25
+PEAK_WINDOW_BINS = 10
+#: A mode is supported by a peak within ``max(SUPPORT_BINS * df, zeta * f)``
+#: of its frequency: a couple of frequency bins, or its half-power band
+#: ``f (1 +- zeta)`` ...
+SUPPORT_BINS = 2.0
+#: ... with the damping ratio taken at most this (a spurious mode's damping
+#: of 30 % would otherwise accept any peak in a wide band).
+SUPPORT_MAX_DAMPING = 0.05
+#: Columns of :func:`spectral_support`.
+SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support"]
+
+
+@dataclass(frozen=True)
+class SingularValueSpectrum:
+    """The singular values of a record's spectral density matrix.
+
+    Attributes
+    ----------
+    freq_hz : ndarray, shape (n_freq,)
+    values : ndarray, shape (n_freq, n_values)
+        The largest singular values at each frequency, in decreasing order
+        (units of the record squared per Hz).
+    vectors : ndarray, shape (n_freq, n_channels, n_values)
+        Their left singular vectors (complex, unit norm, largest entry real
+        and positive): near a mode, the first is its shape.
+    nperseg : int
+        Samples per Welch segment; the frequency resolution is
+        ``freq_hz[1]``.
+    """
+
+    freq_hz: np.ndarray
+    values: np.ndarray
+    vectors: np.ndarray
+    nperseg: int
+
+    @property
+    def df(self) -> float:
+        """Frequency resolution (Hz)."""
+        return float(self.freq_hz[1] - self.freq_hz[0]) if len(self.freq_hz) > 1 else float("nan")
+
+    def decibels(self) -> np.ndarray:
+        """``10 log10`` of :attr:`values`, relative to the largest first
+        singular value (0 dB); a zero value is -300 dB."""
+        reference = float(np.max(self.values[:, 0])) if self.values.size else 0.0
+        with np.errstate(divide="ignore"):
+            db = 10 * np.log10(self.values / (reference if reference > 0 else 1.0))
+        return np.maximum(db, -300.0)
+
+    def peaks(self, prominence_db=PEAK_PROMINENCE_DB, height_db=PEAK_HEIGHT_DB, fmax=None) -> pd.DataFrame:
+        """The peaks of each singular value, by frequency.
+
+        A peak is a local maximum of ``10 log10`` of the singular value with
+        a prominence of at least ``prominence_db`` (``scipy.signal.find_peaks``)
+        and at least ``height_db`` above the median of the same curve within
+        :data:`PEAK_WINDOW` of its frequency (at least
+        :data:`PEAK_WINDOW_BINS` bins either side), above the first two bins
+        (the mean removed from each segment leaves nothing there) and up to
+        ``fmax``. Its frequency is refined by the parabola through the three
+        bins around it (in dB), which is exact for a Gaussian peak and better
+        than a bin for any smooth one.
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``freq_hz``, ``sv_number`` (1 for the first singular value),
+            ``bin`` (index into :attr:`freq_hz`), ``db``, ``prominence_db``
+            and ``height_db`` (above the median around it).
+        """
+        from scipy.signal import find_peaks
+
+        prominence_db = nonnegative_float("prominence_db", prominence_db)
+        height_db = nonnegative_float("height_db", height_db)
+        db = self.decibels()
+        rows = []
+        for k in range(db.shape[1]):
+            found, properties = find_peaks(db[:, k], prominence=prominence_db)
+            for index, prominence in zip(found, properties["prominences"]):
+                if index < 2 or (fmax is not None and self.freq_hz[index] > fmax):
+                    continue
+                half = max(PEAK_WINDOW_BINS, int(PEAK_WINDOW * self.freq_hz[index] / self.df))
+                height = db[index, k] - np.median(db[max(0, index - half):index + half + 1, k])
+                if height < height_db:
+                    continue
+                left, centre, right = db[index - 1:index + 2, k]
+                curvature = left - 2 * centre + right
+                shift = 0.5 * (left - right) / curvature if curvature < 0 else 0.0
+                rows.append({"freq_hz": float(self.freq_hz[index] + shift * self.df), "sv_number": k + 1,
+                             "bin": int(index), "db": float(centre), "prominence_db": float(prominence),
+                             "height_db": float(height)})
+        frame = pd.DataFrame(rows, columns=["freq_hz", "sv_number", "bin", "db", "prominence_db", "height_db"])
+        return frame.sort_values(["freq_hz", "sv_number"], ignore_index=True)
+
+
+def fdd(y, dt, nperseg=None, n_values=N_VALUES) -> SingularValueSpectrum:
+    """Frequency domain decomposition: the singular values of the spectral
+    density matrix (:func:`modal.signals.spectral_density`, Welch) at every
+    frequency.
+
+    ``G(f)`` is Hermitian and positive semi-definite, so its singular value
+    decomposition is its eigendecomposition: the singular values are the
+    eigenvalues (``numpy.linalg.eigh``, negative round-off clipped to 0),
+    the singular vectors the eigenvectors, largest first.
+
+    Parameters
+    ----------
+    y : array_like, shape (n_samples, n_channels)
+        The record (as identified: after detrending, decimation and filters).
+    dt : float
+        Sampling interval (s).
+    nperseg : int, optional
+        Samples per Welch segment (:func:`modal.signals.welch_segment` by default).
+    n_values : int
+        Singular values kept (at most the channels).
+
+    Returns
+    -------
+    SingularValueSpectrum
+    """
+    from ..signals import spectral_density, welch_segment
+
+    n_values = positive_int("n_values", n_values)
+    if nperseg is None:
+        nperseg = welch_segment(np.shape(y)[0]) if np.ndim(y) in (1, 2) and np.shape(y)[0] >= 2 else None
+    freq_hz, G = spectral_density(y, dt, nperseg=nperseg)
+    n_values = min(n_values, G.shape[1])
+    eigenvalues, eigenvectors = np.linalg.eigh(G)  # ascending, per frequency
+    values = np.clip(eigenvalues[:, ::-1][:, :n_values], 0.0, None)
+    vectors = eigenvectors[:, :, ::-1][:, :, :n_values]
+    largest = np.take_along_axis(vectors, np.argmax(np.abs(vectors), axis=1)[:, None, :], axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        phase = np.where(np.abs(largest) > 0, np.conj(largest) / np.abs(largest), 1.0)
+    return SingularValueSpectrum(freq_hz=freq_hz, values=values, vectors=vectors * phase, nperseg=int(nperseg))
+
+
+def support_tolerance_hz(freq_hz, damping, df) -> np.ndarray:
+    """How far (Hz) from a mode a singular-value peak supports it:
+    ``max(SUPPORT_BINS df, zeta f)`` (the half-power band), ``zeta`` clipped
+    to ``0 ... SUPPORT_MAX_DAMPING`` (NaN damping: bins only)."""
+    freq_hz = np.asarray(freq_hz, dtype=float)
+    zeta = np.clip(np.nan_to_num(np.asarray(damping, dtype=float), nan=0.0), 0.0, SUPPORT_MAX_DAMPING)
+    return np.maximum(SUPPORT_BINS * df, zeta * freq_hz)
+
+
+def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=None,
+                     prominence_db=PEAK_PROMINENCE_DB) -> pd.DataFrame:
+    """Each mode checked against the peaks of the first singular values.
+
+    A mode is supported when a peak of one of the singular values
+    (:meth:`SingularValueSpectrum.peaks`) lies within
+    :func:`support_tolerance_hz` of its frequency; of several, the nearest
+    one counts.
+
+    Parameters
+    ----------
+    spectrum : SingularValueSpectrum
+        As :func:`fdd` returns it.
+    freq_hz : array_like, shape (n_modes,)
+        The modes' frequencies (Hz).
+    shapes : array_like, shape (n_channels, n_modes)
+        Their shapes (complex as identified, or real), at the channels of
+        the spectrum.
+    damping : array_like, shape (n_modes,), optional
+        Their damping ratios (widen the tolerance to the half-power bandwidth).
+    prominence_db : float
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per mode: ``sv_peak_hz`` (the supporting peak's frequency,
+        NaN without one), ``sv_number`` (which singular value peaks there:
+        1 the first, 0 none), ``sv_mac`` (MAC between the mode's shape and
+        that singular value's vector at the peak bin; NaN without a peak)
+        and ``spectral_support`` (a peak was found).
+    """
+    freq_hz = finite_array("freq_hz", np.atleast_1d(freq_hz), ndim=(1,)) if np.size(freq_hz) else np.empty(0)
+    shapes = np.asarray(shapes)
+    if shapes.ndim != 2 or shapes.shape[1] != freq_hz.size or shapes.shape[0] != spectrum.vectors.shape[1]:
+        raise ValueError(f"shapes must be (n_channels, n_modes) = ({spectrum.vectors.shape[1]}, {freq_hz.size}), "
+                         f"got {shapes.shape}")
+    damping = np.full(freq_hz.size, np.nan) if damping is None else np.asarray(damping, dtype=float)
+    tolerance = support_tolerance_hz(freq_hz, damping, spectrum.df)
+    peaks = spectrum.peaks(prominence_db)
+    rows = []
+    for m, f in enumerate(freq_hz):
+        distance = np.abs(peaks["freq_hz"].to_numpy() - f)
+        near = np.flatnonzero(distance <= tolerance[m])
+        if near.size == 0:
+            rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "spectral_support": False})
+            continue
+        peak = peaks.iloc[near[np.argmin(distance[near])]]
+        vector = spectrum.vectors[int(peak["bin"]), :, int(peak["sv_number"]) - 1]
+        rows.append({"sv_peak_hz": float(peak["freq_hz"]), "sv_number": int(peak["sv_number"]),
+                     "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True})
+    return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
+
+
+def auto_mac(shapes) -> np.ndarray:
+    """The MAC of every pair of ``shapes`` (n_channels, n_modes): symmetric,
+    1 on the diagonal (:func:`modal.mac` of the shapes with themselves)."""
+    shapes = np.asarray(shapes)
+    if shapes.ndim != 2:
+        raise ValueError(f"shapes must be (n_channels, n_modes), got shape {shapes.shape}")
+    if shapes.shape[1] == 0:
+        return np.empty((0, 0))
+    return mac(shapes, shapes)

@@ -1,0 +1,160 @@
+"""Frequency domain decomposition, the spectral witness of `modal identify`:
+the spectral density matrix's convention (a transposed or conjugated matrix
+gives conjugated shapes), its singular values' peaks at the closed-form
+frequencies of a simulated 2-DOF system, the support check and the auto-MAC."""
+
+import numpy as np
+import pytest
+import scipy.linalg
+import scipy.signal
+
+import modal
+
+
+def two_dof(mass, damping, stiffness, n_samples, dt, seed=0):
+    """Accelerations of a 2-DOF system under two independent white forces
+    (exact zero-order-hold discretisation), its poles with positive
+    imaginary part and their complex displacement shapes."""
+    m, c, k = (np.asarray(a, dtype=float) for a in (mass, damping, stiffness))
+    m_inv = np.linalg.inv(m)
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-m_inv @ k, -m_inv @ c]])
+    b = np.vstack([np.zeros((2, 2)), m_inv])
+    system = scipy.signal.cont2discrete((a, b, np.hstack([-m_inv @ k, -m_inv @ c]), m_inv), dt)
+    forces = np.random.default_rng(seed).standard_normal((n_samples, 2))
+    _, acc, _ = scipy.signal.dlsim(system[:4] + (dt,), forces)
+    poles, vectors = np.linalg.eig(a)
+    keep = poles.imag > 0
+    order = np.argsort(poles[keep].imag)
+    return acc, poles[keep][order], vectors[:2, keep][:, order]
+
+
+MASS = np.diag([1.0, 1.5])
+STIFFNESS = np.array([[60.0, -25.0], [-25.0, 45.0]])
+
+
+def test_spectral_density_is_scipys_csd_in_the_convention_g_equals_y_y_hermitian():
+    y = np.random.default_rng(1).standard_normal((4096, 3))
+    y[:, 1] += 0.5 * np.roll(y[:, 0], 3)
+    freq_hz, g = modal.spectral_density(y, 0.01, nperseg=256)
+    for i in range(3):
+        for j in range(3):
+            _, expected = scipy.signal.csd(y[:, j], y[:, i], fs=100.0, nperseg=256)
+            np.testing.assert_allclose(g[:, i, j], expected, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(g, np.conj(np.swapaxes(g, 1, 2)), atol=1e-15)
+    assert freq_hz[1] == pytest.approx(100.0 / 256)
+
+
+def test_spectral_density_phase_of_a_delayed_channel():
+    """Channel 1 is channel 0 delayed by 4 samples: ``G_10 = E[Y_1 Y_0^*] =
+    exp(-i 2 pi f tau) S_00`` (a transposed or conjugated matrix has the
+    opposite phase)."""
+    rng = np.random.default_rng(2)
+    x = rng.standard_normal(2**15 + 4)
+    dt, delay = 0.01, 4
+    y = np.column_stack([x[delay:], x[:-delay]])
+    freq_hz, g = modal.spectral_density(y, dt, nperseg=512)
+    band = (freq_hz > 1) & (freq_hz < 10)  # 2 pi f tau < 2.5 rad: no wrapping
+    np.testing.assert_allclose(np.angle(g[band, 1, 0]), -2 * np.pi * freq_hz[band] * delay * dt, atol=0.03)
+    np.testing.assert_allclose(np.abs(g[band, 1, 0]), g[band, 0, 0].real, rtol=0.02)
+
+
+def test_welch_segment_follows_the_record_length():
+    assert modal.signals.welch_segment(36000) == 4096  # 36000 / 8 = 4500
+    assert modal.signals.welch_segment(2**20) == 2**15  # capped
+    assert modal.signals.welch_segment(1000) == 64 and modal.signals.welch_segment(2048) == 256
+    assert modal.signals.welch_segment(40) == 40
+
+
+def test_first_singular_value_peaks_at_the_closed_form_frequencies():
+    """Proportional damping (zeta = 0.5 % at both modes): the peaks of the
+    first singular value lie within 0.3 bin of the undamped natural
+    frequencies sqrt(eig(K, M)) / 2 pi (an acceleration spectrum peaks at
+    f_n / sqrt(1 - 2 zeta^2), 2.5e-5 higher; measured 0.2 bin at most over
+    seeds), and the singular vector there is the mode shape."""
+    omega2, phi = scipy.linalg.eigh(STIFFNESS, MASS)
+    omega = np.sqrt(omega2)
+    alpha, beta = np.linalg.solve([[1 / (2 * omega[0]), omega[0] / 2], [1 / (2 * omega[1]), omega[1] / 2]],
+                                  [0.005, 0.005])
+    acc, _, _ = two_dof(MASS, alpha * MASS + beta * STIFFNESS, STIFFNESS, 2**16, 0.05)
+    assert modal.fdd(acc, 0.05).nperseg == 8192  # the default: 2**16 / 8
+    spectrum = modal.fdd(acc, 0.05, nperseg=2048)
+    assert spectrum.df == pytest.approx(20 / 2048) and spectrum.values.shape == (1025, 2)
+    assert np.all(spectrum.values[:, 0] >= spectrum.values[:, 1])
+    peaks = spectrum.peaks()
+    first = peaks[peaks["sv_number"] == 1]
+    closed_form = omega / (2 * np.pi)
+    assert len(first) == 2, peaks
+    np.testing.assert_allclose(first["freq_hz"], closed_form, atol=0.3 * spectrum.df)
+    for k, b in enumerate(first["bin"]):
+        vector = spectrum.vectors[b, :, 0]
+        assert modal.mac(vector[:, None], phi[:, k:k + 1])[0, 0] > 0.999
+        assert np.argmax(np.abs(vector)) == np.argmax(np.abs(phi[:, k]))  # not the other mode's shape
+        assert np.abs(vector).max() == pytest.approx(vector[np.argmax(np.abs(vector))].real)  # largest real
+    support = modal.spectral_support(spectrum, closed_form, phi, damping=[0.005, 0.005])
+    assert support["spectral_support"].all() and (support["sv_number"] == 1).all()
+    assert (support["sv_mac"] > 0.999).all()
+
+
+def test_first_singular_vector_is_the_complex_shape_not_its_conjugate():
+    """Non-proportional damping (one dashpot) and close modes give complex
+    shapes (MAC of a shape with its conjugate 0.90): the first singular
+    vector at the lighter mode's peak is its shape, MAC 0.999; with the
+    spectral matrix transposed (or conjugated) it would be the conjugate,
+    MAC 0.91."""
+    acc, poles, psi = two_dof(np.eye(2), [[0.5, 0.0], [0.0, 0.0]], [[45.0, -3.0], [-3.0, 50.0]], 2**16, 0.1, seed=1)
+    freq_hz, zeta = np.abs(poles) / (2 * np.pi), -poles.real / np.abs(poles)
+    assert np.diag(modal.mac(psi, psi.conj()))[1] < 0.92
+    spectrum = modal.fdd(acc, 0.1)
+    lighter = int(np.argmin(zeta))
+    support = modal.spectral_support(spectrum, freq_hz, psi, damping=zeta)
+    assert support.loc[lighter, "spectral_support"] and support.loc[lighter, "sv_number"] == 1
+    assert support.loc[lighter, "sv_mac"] > 0.998
+    conjugate = modal.spectral_support(spectrum, freq_hz, psi.conj(), damping=zeta)
+    assert conjugate.loc[lighter, "sv_mac"] < 0.95
+
+
+def test_a_mode_far_from_any_peak_has_no_support():
+    omega2, phi = scipy.linalg.eigh(STIFFNESS, MASS)
+    acc, _, _ = two_dof(MASS, 0.02 * STIFFNESS, STIFFNESS, 2**14, 0.05)
+    spectrum = modal.fdd(acc, 0.05)
+    f = np.sqrt(omega2) / (2 * np.pi)
+    support = modal.spectral_support(spectrum, [f[0], 3.3], np.column_stack([phi[:, 0], phi[:, 1]]),
+                                     damping=[0.01, 0.01])
+    assert list(support["spectral_support"]) == [True, False]
+    assert np.isnan(support.loc[1, "sv_peak_hz"]) and np.isnan(support.loc[1, "sv_mac"])
+    assert support.loc[1, "sv_number"] == 0
+    # The tolerance: two bins, or the half-power band f (1 +- zeta), zeta clipped at 5 %.
+    df = spectrum.df
+    tolerance = modal.identification._fdd.support_tolerance_hz([1.0, 2.0, 2.0, 9.0], [0.0, 0.1, np.nan, 0.01], df)
+    np.testing.assert_allclose(tolerance, [2 * df, 0.05 * 2.0, 2 * df, max(2 * df, 0.09)])
+
+
+def test_auto_mac_of_known_vectors():
+    """Diagonal 1, symmetric, off-diagonal exact; ``[1, i]`` and its
+    conjugate ``[1, -i]`` are orthogonal (MAC 0), which ``a^T b`` in place of
+    ``a^H b`` would call identical (MAC 1)."""
+    shapes = np.array([[1.0, 1.0, 1.0, 1.0, 2.0], [1j, -1j, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0]])
+    matrix = modal.auto_mac(shapes)
+    np.testing.assert_allclose(np.diag(matrix), 1.0)
+    np.testing.assert_allclose(matrix, matrix.T)
+    assert matrix[0, 1] == pytest.approx(0.0, abs=1e-15)
+    assert matrix[0, 2] == pytest.approx(0.5)  # |1|^2 / (2 * 1)
+    assert matrix[0, 3] == pytest.approx(0.5)  # |1 - i|^2 / (2 * 2)
+    assert matrix[2, 3] == pytest.approx(0.5)
+    assert matrix[2, 4] == pytest.approx(1.0)  # a multiple
+    assert modal.auto_mac(np.empty((3, 0))).shape == (0, 0)
+    with pytest.raises(ValueError, match="shapes must be"):
+        modal.auto_mac(np.ones(3))
+
+
+def test_refusals_name_the_argument():
+    y = np.random.default_rng(3).standard_normal((100, 2))
+    with pytest.raises(ValueError, match="^dt must"):
+        modal.spectral_density(y, 0.0)
+    with pytest.raises(ValueError, match="^nperseg = 200 is longer than the record"):
+        modal.spectral_density(y, 0.01, nperseg=200)
+    with pytest.raises(ValueError, match="^y must not contain NaN|^y "):
+        modal.spectral_density(np.full((100, 2), np.nan), 0.01)
+    spectrum = modal.fdd(y, 0.01)
+    with pytest.raises(ValueError, match=r"^shapes must be \(n_channels, n_modes\) = \(2, 1\)"):
+        modal.spectral_support(spectrum, [1.0], np.ones((3, 1)))
