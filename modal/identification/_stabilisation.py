@@ -30,8 +30,13 @@ from ._result import ModalWarning, normalise_shapes
 POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                 "stable_freq", "stable_damping", "stable_shape", "stable"]
 MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
-                "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
+                "n_poles", "mpc", "mamc", "mpd", "close", "close_mac", "second_freq_hz", "second_damping", "flag"]
 CANDIDATE_COLUMNS = ["freq_hz", "damping", "n_poles", "min_poles", "mpc", "mamc", "mpd"]
+ABOVE_COLUMNS = ["freq_hz", "n_poles"]
+#: The median absolute deviation times this is a standard deviation for normal scatter.
+MAD_SCALE = 1.4826
+#: Two shapes whose ``1 - MAC`` is below this are one shape, whatever their scatter (one channel: MAC 1).
+SAME_SHAPE_ATOL = 1e-9
 QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
@@ -46,12 +51,24 @@ class StabilityCriteria:
     ----------
     freq_rtol : float
         A pole is stable in frequency when it is within this relative
-        distance of the nearest pole of the next lower order.
+        distance of the nearest pole of the next lower order. Poles stable in
+        frequency (and physical) are the ones clustered into modes.
     damping_rtol : float
-        ... and stable in damping when its damping ratio is within this
-        relative distance of that pole's.
+        In the diagram, a pole is stable in damping when its damping ratio is
+        within this relative distance of that pole's (the selection judges
+        damping against the mode's own scatter instead: ``scatter_k``).
     mac_min : float
-        ... and stable in shape when the MAC with that pole is at least this.
+        In the diagram, a pole is stable in shape when the MAC with that pole
+        is at least this. In the selection, a mode's pole keeps its place when
+        ``1 - MAC`` with the mode's shape is within ``scatter_k`` robust
+        standard deviations above the mode's median, or at most ``1 - mac_min``.
+    scatter_k : float
+        How many robust standard deviations (1.4826 times the median absolute
+        deviation) of a mode's own damping and shape scatter a pole may lie
+        from its median: damping and shape are judged against the mode's own
+        scatter, not a fixed tolerance between consecutive orders. Damping
+        within ``cluster_distance`` (absolute, the resolution of the
+        clustering) of the median always passes.
     max_damping : float
         Physical poles have ``0 < damping < max_damping`` (a growing
         component, ``damping <= 0``, is never a mode).
@@ -79,6 +96,22 @@ class StabilityCriteria:
     close_rtol : float
         Two modes within this relative frequency distance are flagged
         ``close`` (with the MAC between their shapes).
+    doubtful_mpc : float
+        A mode whose MPC is below this is flagged ``low MPC`` (Pappa, Elliott
+        and Schenk 1993: the phases of a lightly damped structural mode are
+        nearly collinear; noise and harmonics are not).
+    doubtful_mamc : float
+        A mode whose MAMC is below this is flagged ``low MAMC``: its modal
+        history does not follow one decaying exponential (Pappa, Elliott and
+        Schenk 1993's EMAC; side bands and noise fall short).
+    damping_factor : float
+        A mode whose damping ratio is more than this factor below or above
+        the median of the record's modes is flagged ``damping ... implausible``.
+    single_channel_share : float
+        A mode of a record of several channels whose largest channel holds at
+        least this share of the shape's energy (``|phi_c|^2 / sum |phi|^2``,
+        each channel's entry in its own quantity over that channel's RMS, so
+        that units and levels do not count) is flagged ``single channel``.
     """
 
     freq_rtol: float = 0.01
@@ -91,11 +124,19 @@ class StabilityCriteria:
     merge_distance: float = 0.04
     min_poles: int | None = None
     close_rtol: float = 0.02
+    scatter_k: float = 3.0
+    doubtful_mpc: float = 0.7
+    doubtful_mamc: float = 0.95
+    damping_factor: float = 5.0
+    single_channel_share: float = 0.95
 
     def __post_init__(self):
-        for name in ("freq_rtol", "damping_rtol", "max_damping", "cluster_distance", "merge_distance", "close_rtol"):
+        for name in ("freq_rtol", "damping_rtol", "max_damping", "cluster_distance", "merge_distance", "close_rtol",
+                     "scatter_k"):
             positive_float(name, getattr(self, name))
-        for name in ("mac_min", "mpc_min", "mamc_min"):
+        if positive_float("damping_factor", self.damping_factor) <= 1:
+            raise ValueError(f"damping_factor must be above 1, got {self.damping_factor}")
+        for name in ("mac_min", "mpc_min", "mamc_min", "doubtful_mpc", "doubtful_mamc", "single_channel_share"):
             value = nonnegative_float(name, getattr(self, name))
             if value > 1:
                 raise ValueError(f"{name} must be in [0, 1], got {value}")
@@ -119,7 +160,13 @@ class Stabilisation:
         clustered into it, at most one per order), mean ``mpc``, ``mamc`` and
         ``mpd`` (mean phase deviation, degrees), ``close`` (another mode lies
         within ``criteria.close_rtol`` in frequency) and ``close_mac`` (MAC
-        with the nearest mode in frequency; NaN for a single mode).
+        with the nearest mode in frequency; NaN for a single mode),
+        ``second_freq_hz`` and ``second_damping`` (a second estimate of the
+        same mode: a cluster of the same shape, at the same orders, within
+        ``criteria.merge_distance``; NaN when none), ``flag`` (why the mode is
+        doubtful, reasons separated by ``"; "``: ``low MPC 0.41``, ``damping
+        0.05 % implausible (median 1.5 %)``, ``single channel``; empty when the
+        mode is trusted; see :attr:`trusted_modes`).
     shapes : ndarray, shape (n_channels, n_modes)
         Representative shape of each mode, real and normalised: that of its
         medoid pole rotated onto the real axis.
@@ -142,6 +189,11 @@ class Stabilisation:
     spectrum_hz, spectrum : ndarray
         Mean amplitude spectrum of the data, drawn behind the diagram.
     criteria : StabilityCriteria
+    notes : tuple of str
+        What the selection decided beyond the modes table, one sentence each,
+        for a log: doubtful modes and why, second estimates, candidates (how
+        many poles they have, how many a mode needs) and clusters above
+        ``fmax`` left out.
     """
 
     modes: pd.DataFrame
@@ -154,6 +206,7 @@ class Stabilisation:
     criteria: StabilityCriteria = field(default_factory=StabilityCriteria)
     complex_shapes: np.ndarray = field(default_factory=lambda: np.empty((0, 0), dtype=complex))
     candidates: pd.DataFrame = field(default_factory=lambda: _empty(CANDIDATE_COLUMNS))
+    notes: tuple = ()
 
     def no_mode_reason(self) -> str:
         """Why no mode was selected, from the counts of the diagram: how many
@@ -167,13 +220,12 @@ class Stabilisation:
         if poles.empty:
             return ("no pole was computed (H(0) has too low a numerical rank): the data hold (almost) no "
                     "oscillation; check the record and the channels used")
-        stable = poles["stable"].to_numpy()
+        stable = poles["stable_freq"].to_numpy()
         candidates = stable & poles["physical"].to_numpy()
-        found = f"{len(poles)} poles over {n_orders} orders, {int(stable.sum())} stable"
+        found = f"{len(poles)} poles over {n_orders} orders, {int(stable.sum())} stable in frequency"
         if not stable.any():
             return (f"{found}: no pole recurs from one order to the next (within {criteria.freq_rtol:.0%} in "
-                    f"frequency, {criteria.damping_rtol:.0%} in damping, MAC >= {criteria.mac_min}), as for a "
-                    "record of noise alone. What could help: check that the record holds the response of "
+                    "frequency), as for a record of noise alone. What could help: check that the record holds the response of "
                     "the structure; with a known band, --fmax (and --highpass against a drift); more samples")
         if not candidates.any():
             s = poles[stable]
@@ -207,6 +259,12 @@ class Stabilisation:
                 "scattered poles; if the record holds the structure's response, what could help: a longer "
                 "record (ambient: more averaging steadies the poles); --rows so that the Hankel matrix spans a few "
                 "periods of the lowest mode. (A higher --max-order computes more orders but also needs more.)")
+
+    @property
+    def trusted_modes(self) -> pd.DataFrame:
+        """The modes without a ``flag``: those to print and to believe
+        without a second look (the others stay in :attr:`modes`)."""
+        return self.modes[self.modes["flag"].fillna("") == ""]
 
     def plot(self, fmax=None, title=None, ax=None):
         """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""
@@ -306,24 +364,30 @@ def stabilisation(
     orders = list(range(2, max_order + 1, 2))
     table, pole_shapes = _poles(p, d, qt, h1, orders, l, m, dt, progress, derivatives)
     table.update(_stability(table, pole_shapes, criteria))
+    limit = 0.5 / dt if fmax is None else fmax
     with np.errstate(invalid="ignore"):
-        table["physical"] = (
+        quality = (
             ~table["real_pole"]
             & (table["damping"] > 0)
             & (table["damping"] < criteria.max_damping)
             & (table["mpc"] >= criteria.mpc_min)
             & (table["mamc"] >= criteria.mamc_min)
-            & (table["freq_hz"] < (0.5 / dt if fmax is None else fmax))
         )
+    table["physical"] = quality & (table["freq_hz"] < limit)
     min_poles = criteria.min_poles or max(3, math.ceil(0.4 * len(orders)))
-    table["mode"], modes, complex_shapes, candidates = _select_modes(table, pole_shapes, criteria, min_poles)
+    # what one unit of each channel's shape entry is against that channel's own level, in its own quantity
+    channel_rms = np.sqrt(np.mean(np.square(y[:, start:]), axis=(0, 1)))
+    relative = np.zeros(l, dtype=int) if derivatives is None else derivatives - derivatives[0]
+    table["mode"], modes, complex_shapes, candidates, above = _select_modes(
+        table, pole_shapes, criteria, min_poles, quality=quality, limit=limit, channels=(channel_rms, relative))
     if segments is not None and len(modes):
         modes["freq_std_hz"], modes["damping_std"] = segment_std(
             segments, p, table, modes, rows, cols, start, l, dt)
     poles = pd.DataFrame({name: table[name] for name in POLE_COLUMNS + ["physical", "mode"]})
     spectrum_hz, spectrum = _mean_spectrum(y[:, start:], dt)
+    notes = _notes(modes, candidates, above, fmax)
     result = Stabilisation(modes, normalise_shapes(complex_shapes), poles, pole_shapes, sv, spectrum_hz, spectrum,
-                           criteria, complex_shapes, candidates)
+                           criteria, complex_shapes, candidates, notes)
     if modes.empty:
         warnings.warn(f"no mode selected: {result.no_mode_reason()}", ModalWarning, stacklevel=2)
     return result
@@ -483,37 +547,68 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     return freq_std, damping_std
 
 
-def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int):
-    """Cluster the stable physical poles by frequency and shape into modes.
+def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCriteria, min_poles: int, quality=None,
+                  limit=np.inf, channels=None):
+    """Cluster the physical poles stable in frequency into modes, judge each
+    pole's damping and shape against its mode's own scatter, state a second
+    estimate of one mode once, and flag doubtful modes.
 
-    Average linkage (scipy.cluster) on ``|lambda_i - lambda_j| /
-    max(|lambda_i|, |lambda_j|) + 1 - MAC_ij`` (``lambda`` the
-    continuous-time poles, ``|lambda| = 2 pi f``: frequency and damping
-    together), cut at ``criteria.cluster_distance``, with two poles of the same
-    order kept apart (their distance is raised above what any average can
-    absorb): two close modes present at the same orders stay two. Clusters
-    that never share an order and lie within ``criteria.merge_distance`` of
-    each other are then one mode split in two, and join. Clusters of at
-    least ``min_poles`` poles are modes, numbered by frequency; those of at
-    least half as many are candidates.
+    1. The poles clustered are those stable in frequency between consecutive
+       orders (``poles["stable_freq"]``) that pass the quality criteria
+       (``quality``, default ``poles["physical"]``): damping and shape may
+       scatter from order to order, as they do in ambient records, without
+       keeping a real mode out (Peeters and De Roeck 2001 use frequency
+       stability alone to build the diagram; Magalhães, Cunha and Caetano 2009
+       cluster all poles).
+    2. Average linkage (scipy.cluster) on ``|lambda_i - lambda_j| /
+       max(|lambda_i|, |lambda_j|) + 1 - MAC_ij`` (``lambda`` the
+       continuous-time poles, ``|lambda| = 2 pi f``: frequency and damping
+       together; Reynders, Houbrechts and De Roeck 2012), cut at
+       ``criteria.cluster_distance``, with two poles of the same order kept
+       apart (their distance is raised above what any average can absorb):
+       two close modes present at the same orders stay two. Clusters that
+       never share an order and lie within ``criteria.merge_distance`` of
+       each other are one mode split in two, and join.
+    3. In each cluster, a pole whose damping lies more than
+       ``criteria.scatter_k`` robust standard deviations (1.4826 x the median
+       absolute deviation) from the cluster's median damping (and beyond
+       ``criteria.cluster_distance`` of it), or whose ``1 - MAC`` with the
+       cluster's medoid lies more than that above their median (and beyond
+       ``1 - criteria.mac_min``), leaves it (label 0).
+    4. Clusters of at least ``min_poles`` poles below ``limit`` (Hz) are
+       modes; those above are reported apart; smaller ones of at least half
+       as many (and two) are candidates.
+    5. A mode with fewer poles than another whose shape it shares (the median ``1 - MAC`` between their poles within the larger
+       of the two clusters' own scatter, :func:`_shape_scatter`) and whose frequency lies within the half-power half-width
+       (``zeta f``) of either is the same physical mode estimated twice at the
+       same orders: it becomes that mode's ``second_freq_hz`` and
+       ``second_damping``, its poles carry that mode's number. Modes of
+       different shapes, however close, stay apart.
+    6. Modes are numbered by frequency and flagged (:func:`_flags`;
+       ``channels``: each channel's RMS and derivative order relative to the
+       first channel's, default ones and zeros).
 
     Returns the pole labels (mode number, 0 for none), the modes table, the
-    modes' complex shapes (medoids) and the candidates table.
+    modes' complex shapes (medoids), the candidates table and the clusters
+    above ``limit`` that would have been modes (``freq_hz``, ``n_poles``).
     """
     from scipy.cluster.hierarchy import fcluster, linkage
     from scipy.spatial.distance import squareform
 
     l = pole_shapes.shape[1]
     labels = np.zeros(len(poles["order"]), dtype=int)
-    chosen = np.flatnonzero(poles["stable"] & poles["physical"])
+    quality = poles["physical"] if quality is None else quality
+    chosen = np.flatnonzero(poles["stable_freq"] & quality)
     if len(chosen) < 2:
-        return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), _empty(CANDIDATE_COLUMNS)
-    f, order = poles["freq_hz"][chosen], poles["order"][chosen]
+        return (labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), _empty(CANDIDATE_COLUMNS),
+                _empty(ABOVE_COLUMNS))
+    f, order, zeta = poles["freq_hz"][chosen], poles["order"][chosen], poles["damping"][chosen]
     shapes = pole_shapes[chosen].T
     # the continuous-time poles over their natural frequency: unit complex numbers fixed by the damping ratio
-    unit_pole = -poles["damping"][chosen] + 1j * np.sqrt(1 - poles["damping"][chosen] ** 2)
+    unit_pole = -zeta + 1j * np.sqrt(1 - zeta**2)
     pole = f * unit_pole
-    distance = np.abs(pole[:, None] - pole[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - mac(shapes, shapes)
+    macs = mac(shapes, shapes)
+    distance = np.abs(pole[:, None] - pole[None, :]) / np.maximum(f[:, None], f[None, :]) + 1 - macs
     distance = np.clip((distance + distance.T) / 2, 0, None)
     np.fill_diagonal(distance, 0)
     apart = (order[:, None] == order[None, :]) & ~np.eye(len(chosen), dtype=bool)
@@ -523,27 +618,46 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
                         "distance")
     clusters = _join_split_clusters(clusters, order, distance, criteria.merge_distance)
     _, clusters = np.unique(clusters, return_inverse=True)
-    count = np.bincount(clusters)
-    groups = {name: poles[name][chosen] for name in ("freq_hz", "damping", "mpc", "mamc", "mpd")}
-    mean = {name: np.bincount(clusters, values) / count for name, values in groups.items()}
+    n_clusters = clusters.max() + 1
     # each cluster's medoid: the member with the least distance summed over its cluster (the first on ties)
     spread = np.where(clusters[:, None] == clusters[None, :], distance, 0).sum(axis=1)
-    medoids = np.lexsort((spread, clusters))[np.cumsum(count) - count]
-    is_mode = count >= min_poles
-    is_candidate = ~is_mode & (2 * count >= min_poles) & (count >= 2)
+    first = np.lexsort((spread, clusters))
+    medoids = first[np.searchsorted(clusters[first], np.arange(n_clusters))]
+    misfit = 1 - macs[np.arange(len(chosen)), medoids[clusters]]
+    member = _consistent(clusters, zeta, misfit, criteria)
+    member[medoids] = True
+    shape_scatter = _shape_scatter(clusters, member, macs, criteria.scatter_k)
+    count = np.bincount(clusters[member], minlength=n_clusters)
+    groups = {name: poles[name][chosen][member] for name in ("freq_hz", "damping", "mpc", "mamc", "mpd")}
+    inner = clusters[member]
+    mean = {name: np.bincount(inner, values, minlength=n_clusters) / count for name, values in groups.items()}
+    below = mean["freq_hz"] < limit
+    is_mode = (count >= min_poles) & below
+    above = pd.DataFrame({"freq_hz": mean["freq_hz"][(count >= min_poles) & ~below],
+                          "n_poles": count[(count >= min_poles) & ~below]}).sort_values("freq_hz", ignore_index=True)
+    is_candidate = ~is_mode & below & (2 * count >= min_poles) & (count >= 2)
     candidates = pd.DataFrame({"freq_hz": mean["freq_hz"][is_candidate], "damping": mean["damping"][is_candidate],
                                "n_poles": count[is_candidate], "min_poles": min_poles,
                                "mpc": mean["mpc"][is_candidate], "mamc": mean["mamc"][is_candidate],
                                "mpd": mean["mpd"][is_candidate]}).sort_values("freq_hz", ignore_index=True)
     if not np.any(is_mode):
-        return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), candidates
-    kept = np.flatnonzero(is_mode)[np.argsort(mean["freq_hz"][is_mode], kind="stable")]  # modes by frequency
-    number = np.zeros(len(count), dtype=int)
+        return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), candidates, above
+    second_of = _second_estimates(np.flatnonzero(is_mode), count, mean["freq_hz"], mean["damping"], clusters, member,
+                                  macs, shape_scatter)
+    main = np.array([c for c in np.flatnonzero(is_mode) if c not in second_of], dtype=int)
+    kept = main[np.argsort(mean["freq_hz"][main], kind="stable")]  # modes by frequency
+    number = np.zeros(n_clusters, dtype=int)
     number[kept] = np.arange(1, len(kept) + 1)
-    labels[chosen] = number[clusters]
+    for duplicate, mode in second_of.items():
+        number[duplicate] = number[mode]
+    labels[chosen[member]] = number[inner]
     with np.errstate(invalid="ignore", divide="ignore"):  # a one-pole mode (min_poles = 1) has no std
-        std = {name: np.sqrt(np.bincount(clusters, (groups[name] - mean[name][clusters]) ** 2) / (count - 1))
-               for name in ("freq_hz", "damping")}
+        std = {name: np.sqrt(np.bincount(inner, (groups[name] - mean[name][inner]) ** 2, minlength=n_clusters)
+                             / (count - 1)) for name in ("freq_hz", "damping")}
+    second = np.full(n_clusters, -1)
+    for duplicate, mode in sorted(second_of.items(), key=lambda item: count[item[0]]):  # the largest stated
+        second[mode] = duplicate
+    has_second = second[kept] >= 0
     mode_shapes = shapes[:, medoids[kept]]
     close, close_mac = _close_modes(mean["freq_hz"][kept], mode_shapes, criteria.close_rtol)
     modes = pd.DataFrame({
@@ -552,8 +666,126 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
         "damping_spread": std["damping"][kept], "n_poles": count[kept],
         "mpc": mean["mpc"][kept], "mamc": mean["mamc"][kept], "mpd": mean["mpd"][kept], "close": close,
         "close_mac": close_mac,
+        "second_freq_hz": np.where(has_second, mean["freq_hz"][second[kept]], np.nan),
+        "second_damping": np.where(has_second, mean["damping"][second[kept]], np.nan),
     })
-    return labels, modes, mode_shapes, candidates
+    rms, relative = (np.ones(l), np.zeros(l, dtype=int)) if channels is None else channels
+    visible = np.abs(mode_shapes) * (2 * np.pi * modes["freq_hz"].to_numpy()) ** relative[:, None] / rms[:, None]
+    modes["flag"] = _flags(modes, visible, criteria)
+    return labels, modes, mode_shapes, candidates, above
+
+
+def _consistent(clusters, zeta, misfit, criteria):
+    """Which poles agree with their cluster's own scatter in damping and in
+    shape (``misfit``: ``1 - MAC`` with the cluster's medoid): see
+    :func:`_select_modes`, step 3."""
+    member = np.zeros(len(clusters), dtype=bool)
+    k = criteria.scatter_k * MAD_SCALE
+    for c in range(clusters.max() + 1):
+        inside = clusters == c
+        z, e = zeta[inside], misfit[inside]
+        z_centre, e_centre = np.median(z), np.median(e)
+        z_tol = max(k * np.median(np.abs(z - z_centre)), criteria.cluster_distance)
+        e_tol = max(e_centre + k * np.median(np.abs(e - e_centre)), 1 - criteria.mac_min)
+        member[inside] = (np.abs(z - z_centre) <= z_tol) & (e <= e_tol)
+    return member
+
+
+def _shape_scatter(clusters, member, macs, scatter_k):
+    """Per cluster, how far apart two of its member poles' shapes may lie:
+    the median ``1 - MAC`` over its pairs of members plus ``scatter_k``
+    robust standard deviations of it (0 for fewer than two members)."""
+    scatter = np.zeros(clusters.max() + 1)
+    for c in range(len(scatter)):
+        inside = np.flatnonzero(member & (clusters == c))
+        pairs = 1 - macs[np.ix_(inside, inside)][np.triu_indices(len(inside), 1)]
+        if pairs.size:
+            centre = np.median(pairs)
+            scatter[c] = centre + scatter_k * MAD_SCALE * np.median(np.abs(pairs - centre))
+    return scatter
+
+
+def _second_estimates(modes, count, freq, damping, clusters, member, macs, shape_scatter):
+    """``{cluster: mode cluster}`` for each mode cluster that is a second
+    estimate of a larger one (more poles; on ties the first): the median
+    ``1 - MAC`` between their poles within the larger shape scatter of the
+    two (:func:`_shape_scatter`; at least :data:`SAME_SHAPE_ATOL`), and mean
+    frequencies (``freq``) within the half-power half-width ``zeta f`` of
+    either (``damping``: mean ratios), i.e. one resonance peak of one shape,
+    not two. Each is paired with the nearest such mode in frequency; a mode
+    that is itself a second estimate takes none."""
+    second_of = {}
+    by_size = sorted(modes, key=lambda c: -count[c])  # stable: ties keep cluster order
+    for i, b in enumerate(by_size):
+        in_b = member & (clusters == b)
+        pair, nearest = None, np.inf
+        for a in by_size[:i]:
+            gap = abs(freq[a] - freq[b])
+            if a in second_of or gap > max(damping[a] * freq[a], damping[b] * freq[b]) or gap >= nearest:
+                continue
+            between = np.median(1 - macs[np.ix_(member & (clusters == a), in_b)])
+            if between <= max(shape_scatter[a], shape_scatter[b], SAME_SHAPE_ATOL):
+                pair, nearest = a, gap
+        if pair is not None:
+            second_of[b] = pair
+    return second_of
+
+
+def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria) -> list[str]:
+    """Why each mode is doubtful (reasons joined by ``"; "``, empty when
+    trusted); ``visible`` (channels x modes): each shape entry's magnitude
+    against its channel's level.
+
+    - ``low MPC 0.41``: MPC below ``criteria.doubtful_mpc``;
+    - ``low MAMC 0.89``: MAMC below ``criteria.doubtful_mamc``;
+    - ``damping 0.05 % implausible (median 1.5 %)``: more than
+      ``criteria.damping_factor`` times below or above the median damping of
+      the record's modes of MPC at least ``doubtful_mpc`` (of all modes when
+      fewer than two are; no check for a single mode);
+    - ``single channel``: of several channels, one holds at least
+      ``criteria.single_channel_share`` of the shape's energy.
+    """
+    mpc, damping = modes["mpc"].to_numpy(), modes["damping"].to_numpy()
+    clean = damping[mpc >= criteria.doubtful_mpc]
+    reference = np.median(clean if len(clean) >= 2 else damping)
+    mamc = modes["mamc"].to_numpy()
+    energy = visible**2
+    share = energy.max(axis=0) / energy.sum(axis=0)
+    flags = []
+    for k in range(len(modes)):
+        reasons = []
+        if mpc[k] < criteria.doubtful_mpc:
+            reasons.append(f"low MPC {mpc[k]:.2f}")
+        if mamc[k] < criteria.doubtful_mamc:
+            reasons.append(f"low MAMC {mamc[k]:.2f}")
+        if len(modes) > 1 and not (reference / criteria.damping_factor <= damping[k]
+                                   <= reference * criteria.damping_factor):
+            reasons.append(f"damping {100 * damping[k]:.2g} % implausible (median {100 * reference:.2g} %)")
+        if len(visible) > 1 and share[k] >= criteria.single_channel_share:
+            reasons.append("single channel")
+        flags.append("; ".join(reasons))
+    return flags
+
+
+def _notes(modes, candidates, above, fmax) -> tuple:
+    """The selection's decisions as sentences for a log (:attr:`Stabilisation.notes`)."""
+    notes = []
+    for _, row in modes.iterrows():
+        if row["flag"]:
+            notes.append(f"mode {row['mode']} ({row['freq_hz']:.4g} Hz) is doubtful: {row['flag']} "
+                         "(kept in the modes table with its flag)")
+        if np.isfinite(row["second_freq_hz"]):
+            notes.append(f"mode {row['mode']} ({row['freq_hz']:.4g} Hz) has a second estimate at "
+                         f"{row['second_freq_hz']:.4g} Hz, damping {100 * row['second_damping']:.2g} %: a cluster "
+                         "of the same shape at the same orders, one physical mode")
+    if len(candidates):
+        listed = ", ".join(f"{f:.4g} Hz ({n} poles)" for f, n in zip(candidates["freq_hz"], candidates["n_poles"]))
+        notes.append(f"not selected, too few poles (a mode needs {candidates['min_poles'].iloc[0]}, the orders "
+                     f"computed and fmax set how many): {listed}")
+    if fmax is not None and len(above):
+        listed = ", ".join(f"{f:.4g} Hz ({n} poles)" for f, n in zip(above["freq_hz"], above["n_poles"]))
+        notes.append(f"not selected, above fmax = {fmax:g} Hz: {listed}")
+    return tuple(notes)
 
 
 def _join_split_clusters(clusters, order, distance, merge_distance):
@@ -590,7 +822,7 @@ def _close_modes(freq_hz, shapes, close_rtol):
 
 
 def _empty(columns) -> pd.DataFrame:
-    return pd.DataFrame({c: pd.Series(dtype=float) for c in columns})
+    return pd.DataFrame({c: pd.Series(dtype=object if c == "flag" else float) for c in columns})
 
 
 def _derivatives(quantities, n_channels):

@@ -176,14 +176,14 @@ def test_a_mode_split_across_orders_is_joined():
     f = np.concatenate([3.61 + 1e-4 * rng.standard_normal(15), 3.678 + 1e-4 * rng.standard_normal(15)])
     table = {"order": np.concatenate([low, high]), "freq_hz": f, "damping": np.full(30, 0.01),
              "mpc": np.ones(30), "mamc": np.ones(30), "mpd": np.zeros(30),
-             "stable": np.ones(30, bool), "physical": np.ones(30, bool)}
+             "stable_freq": np.ones(30, bool), "physical": np.ones(30, bool)}
     shapes = np.vstack([np.tile(shape_a, (15, 1)), np.tile(shape_b, (15, 1))]).astype(complex)
     assert 0.99 < modal.mac(shape_a[:, None], shape_b[:, None])[0, 0] < 0.995
     criteria = modal.StabilityCriteria()
-    _, modes, _, _ = _select_modes(table, shapes, criteria, min_poles=12)
+    _, modes, _, _, _ = _select_modes(table, shapes, criteria, min_poles=12)
     assert len(modes) == 1 and modes["n_poles"][0] == 30
     table["order"] = np.concatenate([orders[:15], orders[:15]])  # the same orders: two modes
-    _, modes, _, _ = _select_modes(table, shapes, criteria, min_poles=12)
+    _, modes, _, _, _ = _select_modes(table, shapes, criteria, min_poles=12)
     assert len(modes) == 2 and modes["close"].all()
 
 
@@ -205,7 +205,8 @@ def test_rare_modes_are_listed_as_candidates():
 @pytest.mark.parametrize("scale", [1e-150, 1e150])
 def test_the_ambient_path_does_not_depend_on_scale(scale):
     """identify_record on a record multiplied by 1e-150 or 1e+150 selects the
-    same modes as on the record itself."""
+    same modes as on the record itself, the two modes trusted (a third,
+    1.61 Hz at 0.1 %, is flagged: damping implausible)."""
     shapes = np.array([[1.0, 0.5], [0.6, -0.8], [0.3, 1.0]])
     rng = np.random.default_rng(8)
     dt, n = 1 / 40, 24000
@@ -220,7 +221,8 @@ def test_the_ambient_path_does_not_depend_on_scale(scale):
     acc = np.column_stack(q) @ shapes.T + 0.02 * rng.standard_normal((n, 3))
     base, _ = modal.identify_record(acc, dt, "ambient", max_order=20, fmax=8)
     scaled, _ = modal.identify_record(acc * scale, dt, "ambient", max_order=20, fmax=8)
-    assert len(base.modes) == 2
+    np.testing.assert_allclose(base.trusted_modes["freq_hz"], [1.5, 4.2], rtol=5e-3)
+    assert list(scaled.modes["flag"]) == list(base.modes["flag"])
     np.testing.assert_allclose(scaled.modes["freq_hz"], base.modes["freq_hz"], rtol=1e-12)
     np.testing.assert_allclose(scaled.modes["damping"], base.modes["damping"], rtol=1e-9)
 
@@ -307,7 +309,9 @@ def test_modes_table_has_the_documented_columns():
     dt = 1 / 100
     modes = modal.stabilisation(free_decays([2.0, 6.5], [0.02, 0.02], shapes, dt, 1500, noise=1e-4), dt, 30, 40).modes
     assert list(modes.columns) == ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std",
-                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
+                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac",
+                                   "second_freq_hz", "second_damping", "flag"]
+    assert (modes["flag"] == "").all() and modes[["second_freq_hz", "second_damping"]].isna().all().all()
     assert len(modes) == 2 and modes[["freq_std_hz", "damping_std"]].isna().all().all()
     assert (modes["freq_spread_hz"] > 0).all() and (modes["damping_spread"] > 0).all()
 
@@ -318,15 +322,16 @@ def test_palisaden_90_minutes_gives_four_modes():
     documented settings: the three published modes (pyOMA2: 1.88, 2.42, 2.68
     Hz, within 0.5 %) and one weak mode near 3.6 Hz, once, not split in two.
     Its poles hold one mode (2.7 % damped) up to order 22 and two from order
-    26 (0.9 % and 2.4 %): weighing damping with frequency, the low orders join
-    the 2.4 % poles and the 0.9 % ones stay a candidate."""
+    26 (0.9 % and 2.4 %), of one shape within their scatter and within each
+    other's half-power band: one mode at 3.66 Hz with a second estimate at
+    3.60 Hz, no candidate there."""
     from pathlib import Path
 
     y = np.load(Path(__file__).resolve().parents[2] / "data" / "palisaden_12.5hz_90min.npy").astype(float)
     result, _ = modal.identify_record(y, 0.08, "ambient", fmax=5, highpass_hz=0.5)
-    f = result.modes["freq_hz"].to_numpy()
-    assert len(f) == 4, f
-    np.testing.assert_allclose(f[:3], [1.88, 2.42, 2.68], rtol=5e-3)
-    assert 3.6 < f[3] < 3.7 and not result.modes["close"].iloc[3]
-    near = result.candidates["freq_hz"].between(3.5, 3.7)
-    assert near.sum() == 1 and result.candidates.loc[near, "n_poles"].iloc[0] < result.candidates["min_poles"].iloc[0]
+    modes = result.modes
+    for f in (1.88, 2.42, 2.68):
+        assert np.isclose(modes["freq_hz"], f, rtol=5e-3).sum() == 1, modes["freq_hz"]
+    near = modes[modes["freq_hz"].between(3.5, 3.7)]
+    assert len(near) == 1 and 3.55 < near["second_freq_hz"].iloc[0] < 3.7 and not near["close"].iloc[0]
+    assert not result.candidates["freq_hz"].between(3.5, 3.7).any()

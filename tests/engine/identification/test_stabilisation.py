@@ -155,7 +155,7 @@ def _pole_table(freqs, shapes, stable=None, damping=None):
     damping = 0.01 + 0.01 * rng.random(n) if damping is None else np.broadcast_to(float(damping), n)
     return ({"order": 2 * np.arange(1, n + 1), "freq_hz": np.asarray(freqs, float),
              "damping": damping, "mpc": rng.random(n), "mamc": rng.random(n),
-             "mpd": rng.random(n), "stable": np.ones(n, bool) if stable is None else np.asarray(stable, bool),
+             "mpd": rng.random(n), "stable_freq": np.ones(n, bool) if stable is None else np.asarray(stable, bool),
              "physical": np.ones(n, bool)},
             np.asarray(shapes, float))
 
@@ -164,7 +164,7 @@ def select(poles, pole_shapes, cluster_distance, min_poles):
     """_select_modes with this cluster distance and no joining beyond it:
     the pole labels, the modes and their (here real) shapes."""
     criteria = modal.StabilityCriteria(cluster_distance=cluster_distance, merge_distance=cluster_distance)
-    labels, modes, shapes, _ = _select_modes(poles, pole_shapes.astype(complex), criteria, min_poles)
+    labels, modes, shapes, _, _ = _select_modes(poles, pole_shapes.astype(complex), criteria, min_poles)
     assert np.all(shapes.imag == 0)
     return labels, modes, shapes.real
 
@@ -213,8 +213,9 @@ def test_select_modes_without_a_large_enough_cluster():
     labels, modes, reps = select(poles, pole_shapes, cluster_distance=0.02, min_poles=3)
     assert modes.empty and reps.shape == (2, 0) and not labels.any()
     assert list(modes.columns) == ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std",
-                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
-    assert all(modes.dtypes == float)
+                                   "damping_spread", "n_poles", "mpc", "mamc", "mpd", "close", "close_mac",
+                                   "second_freq_hz", "second_damping", "flag"]
+    assert all(modes.drop(columns="flag").dtypes == float) and modes["flag"].dtype == object
 
 
 def test_stabilisation_reports_progress_per_order():
@@ -256,7 +257,7 @@ def test_stabilisation_stops_at_the_numerical_rank():
     POLE_COLUMNS = ["order", "freq_hz", "damping", "mpc", "mamc", "real_pole",
                     "stable_freq", "stable_damping", "stable_shape", "stable"]
     MODE_COLUMNS = ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
-                    "n_poles", "mpc", "mamc", "mpd", "close", "close_mac"]
+                    "n_poles", "mpc", "mamc", "mpd", "close", "close_mac", "second_freq_hz", "second_damping", "flag"]
 
     assert list(result.poles.columns) == POLE_COLUMNS + ["physical", "mode"] and result.poles.empty
     assert result.poles["order"].dtype.kind == "i" and result.poles["mode"].dtype.kind == "i"
@@ -426,7 +427,7 @@ def test_select_modes_weighs_damping_with_frequency():
                                      [[1.0, 0.6, -0.3]] * (len(low) + len(late) + len(high)))
     poles["order"] = np.concatenate([low, late, high])
     poles["damping"] = np.repeat([0.027, 0.009, 0.024], [len(low), len(late), len(high)])
-    labels, modes, _, candidates = _select_modes(poles, pole_shapes.astype(complex), modal.StabilityCriteria(), 12)
+    labels, modes, _, candidates, _ = _select_modes(poles, pole_shapes.astype(complex), modal.StabilityCriteria(), 12)
     np.testing.assert_array_equal(labels, np.repeat([1, 0, 1], [len(low), len(late), len(high)]))
     assert modes["n_poles"].tolist() == [25]
     assert modes["freq_hz"].iloc[0] == pytest.approx((7 * 3.618 + 18 * 3.680) / 25, rel=1e-12)
