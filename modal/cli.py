@@ -305,14 +305,19 @@ def _identify(args) -> int:
     result = written[0]
     log(f"wrote {args.out / 'modes.csv'}, poles.csv, stabilisation.png, mac.csv, settings.json and "
         f"{args.out / 'report.html'}")
-    modes = result.modes
-    print(f"{args.path.name}: {len(modes)} modes ({options.max_order // 2} orders, {len(result.poles)} poles)")
+    modes, trusted = result.modes, result.trusted_modes  # doubtful modes (a flag) stay in modes.csv only
+    doubtful = modes[~modes.index.isin(trusted.index)]
+    print(f"{args.path.name}: {len(trusted)} modes ({options.max_order // 2} orders, {len(result.poles)} poles)"
+          + (f"; {len(doubtful)} doubtful, in modes.csv with the reason in flag: "
+             + ", ".join(f"{f:.4g} Hz ({why})" for f, why in zip(doubtful["freq_hz"], doubtful["flag"]))
+             if len(doubtful) else ""))
     if len(modes):
-        print("damping: ratio to critical (fraction, not %), as in modes.csv; *_std: standard deviation of the "
-              "estimate; *_spread: over the model orders")
-        print(modes[["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "n_poles", "mpc",
-                     "mamc"]]
-              .to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        if len(trusted):
+            print("damping: ratio to critical (fraction, not %), as in modes.csv; *_std: standard deviation of the "
+                  "estimate; *_spread: over the model orders")
+            print(trusted[["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "n_poles",
+                           "mpc", "mamc"]]
+                  .to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
     return fail(EXIT_NO_MODES, f"no mode selected: {result.no_mode_reason()}")
 

@@ -341,6 +341,8 @@ def identify_record(
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
                            progress=progress, quantities=options.quantities, segments=segments)
+    for note in result.notes:  # the selection's decisions: doubtful modes, second estimates, what it left out
+        log(note)
     spectrum = fdd(y if excitation == "ambient" else y[start:], dt)
     log(f"spectral witness: singular values of the spectral density matrix (Welch, {spectrum.nperseg}-sample "
         f"segments, {spectrum.df:.3g} Hz resolution)")
