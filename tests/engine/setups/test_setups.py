@@ -2,6 +2,8 @@
 shapes in the global frame, checked against a simulated plate's exact
 modes, pyOMA's and pyOMA2's formats, and the refusals."""
 
+import hashlib
+import json
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +11,7 @@ import pandas as pd
 import pytest
 
 import modal
+from modal.cli import blas_threads
 from modal.cli import main as cli
 from modal.setups import (direction_from_angles, merge_setups, node_motion, node_shapes, plate_roving_test,
                           read_channel_table, read_geometry, read_pyoma_setup, read_setup, save_geometry, save_setup,
@@ -365,3 +368,36 @@ def test_a_second_run_replaces_the_folder_of_setups(plate_test, tmp_path):
     assert sorted(p.name for p in (out / "setups").iterdir()) == ["setup_1", "setup_2"]
     assert (out / "notes.txt").read_text() == "mine"
     assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+def test_roving_report_settings_and_drawing_progress(tmp_path):
+    """Two short setups saved and read back, merged and drawn: a report and
+    settings per setup and for the test (each setup's files hashed), and a
+    log line for each picture before it is drawn."""
+    setups, geometry, _ = plate_roving_test(PLATE, duration=60.0)
+    for s in setups[:2]:
+        save_setup(s, tmp_path / s.name)
+    read = [read_setup(tmp_path / s.name, geometry=geometry) for s in setups[:2]]
+    lines = []
+    out = tmp_path / "out"
+    with blas_threads():  # as modal identify runs it
+        merged, _ = write_setups(read, out, "ambient", geometry=geometry, fmax=25, max_order=20, animate=False,
+                                 log=lines.append, command="modal identify setup_1 setup_2")
+    n = len(merged.modes)
+    assert n >= 3
+    drawing = [line for line in lines if "mode_" in line and ".png" in line]
+    assert len(drawing) == n and drawing[0].strip().startswith(f"mode 1 (1/{n})")
+    assert any(line.startswith(f"drawing {n} modes") for line in lines)
+    page = (out / "report.html").read_text()
+    assert page.count("data:image/png;base64,") == 1 + 2  # the shapes, each setup's diagram
+    assert "setup_1" in page and "setup_2" in page and "modal identify setup_1 setup_2" in page
+    settings = json.loads((out / "settings.json").read_text())
+    hashed = {f["path"]: f["sha256"] for f in settings["provenance"]["inputs"]}
+    assert len(hashed) == 4  # two records, two channel tables
+    table = tmp_path / "setup_1" / "channels.csv"
+    assert hashed[str(table.resolve())] == hashlib.sha256(table.read_bytes()).hexdigest()
+    for s in read:
+        own = json.loads((out / "setups" / s.name / "settings.json").read_text())
+        assert own["options"]["channels"] == list(s.channels["channel"])
+        assert own["options"]["quantities"] == list(s.channels["quantity"])
+        assert (out / "setups" / s.name / "report.html").is_file() and (out / "setups" / s.name / "mac.csv").is_file()
