@@ -58,6 +58,9 @@ def content_hashes(*paths):
 # themselves (modal.thesis.dependencies: parsed, transitively, with every
 # package __init__ on the way), as paths relative to where snakemake runs (so a
 # copied project reruns nothing). Templates and captions are files, listed.
+# Both are input (params) functions: derived when a job of the rule is
+# planned, so a job Snakemake runs in a process of its own (a cluster job, a
+# shadowed one) derives its own script's modules only.
 @functools.cache
 def project_modules(path):
     """The project modules (relative to the project) that the script or
@@ -67,21 +70,31 @@ def project_modules(path):
     )
 
 
-def code_inputs(path):
-    """The project modules that the script or notebook ``path`` (relative to
-    the project) runs when it is executed."""
-    root = Path(workflow.basedir)
-    return [os.path.relpath(root / p) for p in project_modules(path)]
+def code_inputs(pattern):
+    """An input function: the project modules that the script or notebook
+    ``pattern`` (relative to the project; ``{name}`` filled from the job's
+    wildcards) runs when it is executed."""
+
+    def modules(wildcards):
+        root = Path(workflow.basedir)
+        path = pattern.format(**wildcards)
+        return [os.path.relpath(root / p) for p in project_modules(path)]
+
+    return modules
 
 
-@functools.cache
-def code_hashes(path):
-    """``{module: sha256}`` of the project modules the script or notebook
-    ``path`` runs, for a rule's ``params``: an edit reruns the rule by content
-    even when the file keeps an older time stamp (the code inputs alone are
-    compared by time)."""
-    root = Path(workflow.basedir)
-    return {f: sha256(root / f) for f in project_modules(path)}
+def code_hashes(pattern):
+    """A params function: ``{module: sha256}`` of the project modules the
+    script or notebook ``pattern`` (as for :func:`code_inputs`) runs: an edit
+    reruns the rule by content even when the file keeps an older time stamp
+    (the code inputs alone are compared by time)."""
+
+    def hashes(wildcards):
+        root = Path(workflow.basedir)
+        path = pattern.format(**wildcards)
+        return {f: sha256(root / f) for f in project_modules(path)}
+
+    return hashes
 
 
 def code(*names):

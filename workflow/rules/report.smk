@@ -35,7 +35,8 @@ rule claims:
     input:
         code=code_inputs("workflow/scripts/claims.py"),
         identified=[
-            res(f"identified/{s}_{claims_interpretation(s)}.csv") for s in CLAIM_STUDIES
+            res(f"identified/{s}_{claims_interpretation(s)}.csv")
+            for s in CLAIM_STUDIES
         ],
         grid=grid_identified_file(),
     output:
@@ -61,7 +62,7 @@ rule claims:
 # One job per notebook (run_notebook.py, papermill's Python API).
 rule notebook:
     input:
-        code=lambda w: code_inputs(f"notebooks/{w.name}.ipynb"),
+        code=code_inputs("notebooks/{name}.ipynb"),
         captions=CAPTIONS,
         data=lambda w: notebook_inputs(w.name),
         notebook="notebooks/{name}.ipynb",
@@ -79,7 +80,7 @@ rule notebook:
         mem_mb=800,
         runtime=10,
     params:
-        code=lambda w: code_hashes(f"notebooks/{w.name}.ipynb"),
+        code=code_hashes("notebooks/{name}.ipynb"),
         parameters=lambda w: notebook_parameters(w.name),
         sha256=content_hashes(CAPTIONS, config["published"]),
     script:
