@@ -176,7 +176,8 @@ def noise_figure(identified: Mapping[str, pd.DataFrame], mode: int, title: str) 
     return fig
 
 
-def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str, str], configured: int) -> Figure:
+def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str, str],
+                            configured: int | Mapping[str, int]) -> Figure:
     """CERA frequency error against the Hankel width s, one panel per thesis
     table (Tables 7-9), with the configured s marked.
 
@@ -187,8 +188,10 @@ def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str
     title : str
     panels : mapping
         Case -> the heading of its panel ("Table 7. ..."), in panel order.
-    configured : int
-        The Hankel width s the tables use (``studies.cera.methods.cera.cols``).
+    configured : int or mapping
+        The Hankel width s the tables use (``studies.cera.methods.cera.cols``),
+        or interpretation -> its own (an interpretation may read s otherwise,
+        :func:`modal.thesis.study.interpreted`).
 
     The error axis is symmetric-logarithmic (linear within ±1 %), so nothing
     is clipped; widths at which every seed gave a real pole for a mode are
@@ -208,11 +211,17 @@ def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str
                 ax.plot(lost, np.full(len(lost), 0.04), "*", ls="none", color=color, transform=ax.get_xaxis_transform(),
                         label=f"mode {mode} ({interp}): real pole in every seed")
         ax.axhline(0, color="k", lw=0.5)
-        ax.axvline(configured, color="0.3", ls=":", lw=1.2, label=f"configured s = {configured} (Tables 7-9)")
+        widths = configured if isinstance(configured, Mapping) else {None: configured}
+        for k, width in enumerate(sorted(set(widths.values()))):
+            users = [str(i) for i, w in widths.items() if w == width and i is not None]
+            ax.axvline(width, color="0.3", ls=(":", "-.")[k % 2], lw=1.2,
+                       label=f"configured s = {width} (Tables 7-9" + (f"; {', '.join(users)})" if users else ")"))
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set_ylabel("error (%)")
         ax.set_title(panels[case], fontsize=8, loc="left")
-    axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods at multiples of 360)")
+    axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods at multiples of 360, of 90 for the "
+                        "guideline reading)" if isinstance(configured, Mapping) and len(set(configured.values())) > 1
+                        else "Hankel width s (samples; whole fundamental periods at multiples of 360)")
     _legend_below(fig, axes, ncols=2)
     _suptitle(fig, title + "\n(error axis linear within ±1 %, logarithmic beyond)", width=95, fontsize=9)
     return fig

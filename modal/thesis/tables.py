@@ -12,7 +12,8 @@ from .precision import MOST_DIGITS, committed, is_exact
 NOISE_FREE_SEED = -1
 
 #: How figures and the report name the interpretations (config ``interpretations``).
-INTERPRETATION_NAMES = {"named": "signals as named", "lower": "signals one derivative lower"}
+INTERPRETATION_NAMES = {"named": "signals as named", "lower": "signals one derivative lower",
+                        "guideline": "Sec. 6.4 through the thesis's guidelines"}
 
 
 def interpretation_name(interpretation: str) -> str:
@@ -150,8 +151,10 @@ def thesis_rows(group: pd.DataFrame) -> pd.Series:
     real = group["real_pole"].astype(bool).to_numpy()
     if not real.any() or group["method"].iloc[0] not in STATE_SPACE_METHODS:
         return rows
-    modes = group["mode"].to_numpy()
-    identification = np.cumsum(modes == 1)  # each identification's entries run from mode 1 on
+    modes, seeds = group["mode"].to_numpy(), group["seed"].to_numpy()
+    # each identification's entries are consecutive, numbered from 1 up within one seed
+    starts = np.r_[True, (modes[1:] <= modes[:-1]) | (seeds[1:] != seeds[:-1])]
+    identification = np.cumsum(starts)
     for run in np.unique(identification):
         where = np.flatnonzero(identification == run)
         where = where[np.argsort(modes[where], kind="stable")]

@@ -195,3 +195,17 @@ def test_a_table_within_one_percent_names_its_remaining_cause():
     assert row["cause"] == ("remaining deviation: unexplained; search 'd' (12 settings): closest m = modal (g): "
                             "0/3 match (within 1 %)")
     assert report.reproduction_summary({3: frame}, searches=searched).iloc[0]["cause"] == ""
+
+
+def test_era_rows_of_one_mode_across_seeds_stay_one_row():
+    # The grid tables aggregate one mode's entries over seeds (modal.thesis.grid_study): every seed is its own
+    # identification, so real poles in some seeds pair with nothing and nothing shifts.
+    import pandas as pd
+
+    from modal.thesis.tables import aggregate
+
+    frame = pd.DataFrame(dict(method="era", n=4, cols=100, seed=[0, 1, 2], mode=2, omega=[5.7, 26.2, 27.7],
+                              real_pole=[True, False, False], actual=8.0))
+    stats = aggregate(frame, 0)
+    assert len(stats) == 1 and stats["reproduced"].iloc[0] == pytest.approx(26.95)
+    assert stats["real_pole_frac"].iloc[0] == pytest.approx(1 / 3) and stats["actual"].iloc[0] == 8.0

@@ -171,6 +171,9 @@ rule cera_sensitivity:
             n: (table_spec(n)["case"], table_spec(n)["title"])
             for n in tables_of("cera")
         },
-        configured=config["studies"]["cera"]["methods"]["cera"]["cols"],
+        configured={
+            i: interpreted_study("cera", i)[0]["methods"]["cera"]["cols"]
+            for i in config["studies"]["cera"]["interpretations"]
+        },
     script:
         "../scripts/cera_sensitivity.py"
