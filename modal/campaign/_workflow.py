@@ -103,11 +103,9 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     if profile is not None and not Path(profile).is_dir():
         raise ValueError(f"profile: {profile} is not a folder (a Snakemake profile is a folder with config.yaml)")
     out = Path(out)
-    overlap = _overlapping_input(out, campaign_inputs(campaign, config, index))
-    if overlap is not None:
-        raise OutputError(f"out: {out} {overlap}: the results would overwrite or mix with the campaign's "
-                          "inputs; give a folder of its own")
-    check_output(out)  # a folder (or where one can be made) on a writable file system
+    # not an input, not holding or inside one (the rule modal identify follows), and a folder (or where one
+    # can be made) on a writable file system
+    check_output(out, inputs=campaign_inputs(campaign, config, index))
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -143,18 +141,3 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     elif not dry_run:
         log(f"wrote {out / 'tracked.csv'} and {report}")
     return out
-
-
-def _overlapping_input(out: Path, inputs) -> str | None:
-    """How ``out`` overlaps one of ``inputs`` (is it, holds it, lies inside
-    it), or None."""
-    out = out.resolve()
-    for source in inputs:
-        source = Path(source).resolve()
-        if source == out:
-            return f"is the input {source}"
-        if out in source.parents:
-            return f"holds the input {source}"
-        if source in out.parents:
-            return f"lies inside the input {source}"
-    return None

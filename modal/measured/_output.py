@@ -18,10 +18,6 @@ from contextlib import contextmanager
 from pathlib import Path
 
 
-#: The files :func:`modal.write_identification` writes into the folder.
-RESULT_FILES = ("modes.csv", "poles.csv", "stabilisation.png")
-
-
 class OutputError(ValueError):
     """The output folder cannot hold the results (found before any computation)."""
 
@@ -39,8 +35,10 @@ def _kind(mode: int) -> str:
 def check_output(out, inputs=()) -> Path:
     """``out`` as a Path if it can be the results folder, else :class:`OutputError`.
 
-    Refused: a path naming one of ``inputs`` (the record would be
-    overwritten), an existing path that is not a folder (``/proc/version``),
+    Refused: a path that is, holds or lies inside one of ``inputs``
+    (:func:`overlapping_input`: a record, a setup's folder, a channel table,
+    a geometry, a campaign's files), an existing path that is not a folder
+    (``/proc/version``),
     a path below something that is not a folder (``/dev/null/x``), and a
     folder (or its nearest existing parent, where it would be created) that
     is on a read-only file system or not writable by this user.
@@ -53,9 +51,10 @@ def check_output(out, inputs=()) -> Path:
 
 
 def _check_output(out: Path, inputs) -> Path:
-    for source in inputs:
-        if source is not None and (_same_file(out, Path(source)) or _would_replace(out, Path(source))):
-            raise OutputError(f"out: {out} names the input {source}: give a new folder for the results")
+    overlap = overlapping_input(out, [source for source in inputs if source is not None])
+    if overlap is not None:
+        raise OutputError(f"out: {out} {overlap}: the results would overwrite or mix with the inputs; give a "
+                          "folder of its own")
     if out.exists():
         mode = out.stat().st_mode
         if not stat.S_ISDIR(mode):
@@ -77,20 +76,25 @@ def _check_output(out: Path, inputs) -> Path:
     return out
 
 
-def _same_file(a: Path, b: Path) -> bool:
-    try:
-        return a.exists() and b.exists() and os.path.samefile(a, b)
-    except OSError:
-        return False
-
-
-def _would_replace(folder: Path, path: Path) -> bool:
-    """Is ``path`` one of the files the results would replace in ``folder``?
-    (A record beside them is fine: nothing else in the folder is touched.)"""
-    try:
-        return path.name in RESULT_FILES and path.resolve().parent == folder.resolve()
-    except OSError:
-        return False
+def overlapping_input(out, inputs) -> str | None:
+    """How ``out`` overlaps one of ``inputs`` (is it, holds it, lies inside
+    it), or None: the one rule of every command that writes results (``modal
+    identify`` with a record or setups, ``modal campaign``). Paths are
+    compared resolved (links followed), so a second name of an input is
+    caught too. A folder that holds an input is refused even when no result
+    bears an input's name: the results of one run would mix with the data
+    of the next (a setup folder given as ``--out`` once replaced that
+    setup's ``channels.csv``)."""
+    out = Path(out).resolve()
+    for source in inputs:
+        source = Path(source).resolve()
+        if source == out:
+            return f"is the input {source}"
+        if out in source.parents:
+            return f"holds the input {source}"
+        if source in out.parents:
+            return f"lies inside the input {source}"
+    return None
 
 
 def _read_only(path: Path) -> bool:

@@ -34,11 +34,15 @@ class Setup:
     record : MeasuredRecord
     channels : pandas.DataFrame
         The channel table of the channels used (:mod:`modal.setups._channels`).
+    path : Path, optional
+        Where the setup was read from (a folder or a record): an input no
+        results may overwrite.
     """
 
     name: str
     record: object
     channels: pd.DataFrame
+    path: Path | None = None
 
     @property
     def reference_keys(self) -> list[tuple]:
@@ -89,7 +93,7 @@ def read_setup(path, fs=None, geometry=None) -> Setup:
         table = geometry.channel_table(record.channels["name"])
     else:
         raise ValueError(f"{path}: no such setup (a folder or a record file)")
-    return Setup(path.name if path.is_dir() else path.stem, record, table)
+    return Setup(path.name if path.is_dir() else path.stem, record, table, path)
 
 
 def check_setups(setups) -> list[tuple]:

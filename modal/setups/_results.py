@@ -36,7 +36,9 @@ def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_m
       drawn and each setup's diagram (:func:`modal.measured.roving_report`).
 
     The folder is complete or untouched, as :func:`modal.write_identification`
-    writes one (:func:`modal.measured.check_output`, a staged folder).
+    writes one (:func:`modal.measured.check_output`, a staged folder); a
+    folder that is, holds or lies inside an input (a setup's folder, record
+    or channel table, the geometry) is refused before any identification.
 
     Parameters
     ----------
@@ -78,7 +80,7 @@ def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_m
 
     options = identify_options(options, **keywords)
     setups = list(setups)
-    out = check_output(out, inputs=[s.record.path for s in setups if getattr(s.record, "path", None)])
+    out = check_output(out, inputs=_inputs(setups, geometry))
     results = []
     with staged_folder(out) as staging, kept_warnings() as caught:
         for setup in setups:
@@ -137,6 +139,14 @@ def _setup_options(setup) -> dict:
     refs = None if (roles == "reference").all() or not (roles == "reference").any() else \
         [int(c) for c in t["channel"].to_numpy()[roles == "reference"]]
     return {"channels": [int(c) for c in t["channel"]], "refs": refs, "quantities": list(t["quantity"])}
+
+
+def _inputs(setups, geometry) -> list[Path]:
+    """What the results must not overwrite, hold or lie inside: each setup's
+    folder, record and channel table, and the geometry's folder."""
+    paths = [path for s in setups for path in [s.path, *_setup_inputs(s)] if path is not None]
+    source = None if geometry is None else Path(geometry.source)
+    return paths + ([source] if source is not None and source.exists() else [])
 
 
 def _setup_inputs(setup) -> list:

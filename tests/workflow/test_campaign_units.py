@@ -18,7 +18,7 @@ from modal._hashes import content_hashes, file_hash
 from modal._locks import clear_stale_locks, live_snakemake_processes, stale_locks
 from modal.campaign import campaign_inputs, chunks, gather, identify_chunk, identify_one, read_campaign
 from modal.campaign._jobs import MODE_COLUMNS, _reason, shape_matrix
-from modal.campaign._workflow import _overlapping_input
+from modal.measured import overlapping_input as _overlapping_input
 
 # -- the campaign file --------------------------------------------------------
 
