@@ -11,7 +11,7 @@ its spectral witness, frequency domain decomposition (:func:`fdd`).
 from ._cera import cera
 from ._era import era
 from ._era_kernels import decompose
-from ._fdd import SingularValueSpectrum, auto_mac, fdd, spectral_support
+from ._fdd import SingularValueSpectrum, auto_mac, efdd, fdd, spectral_support
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
@@ -19,7 +19,7 @@ from ._result import FLAGS, ModalResult, ModalWarning
 from ._stabilisation import QUANTITIES, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure) and segment_std are importable from here for the
+# QUANTITIES (what a channel may measure), efdd and segment_std are importable from here for the
 # other subpackages (a channel table checks its quantities against QUANTITIES); the names
 # below are also re-exported by modal.
 __all__ = [

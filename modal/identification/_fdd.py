@@ -45,7 +45,13 @@ SUPPORT_BINS = 2.0
 #: of 30 % would otherwise accept any peak in a wide band).
 SUPPORT_MAX_DAMPING = 0.05
 #: Columns of :func:`spectral_support`.
-SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support"]
+SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz", "efdd_damping"]
+#: EFDD: the single-degree-of-freedom bell of a peak is the band around it
+#: where a kept singular vector has at least this MAC with the peak's ...
+EFDD_MAC = 0.8
+#: ... and its correlation function's decay is fitted between these levels
+#: of its envelope (Brincker, Ventura and Andersen 2001 fit a similar range).
+EFDD_LEVELS = (0.9, 0.1)
 
 
 @dataclass(frozen=True)
@@ -170,6 +176,74 @@ def fdd(y, dt, nperseg=None, n_values=N_VALUES) -> SingularValueSpectrum:
     return SingularValueSpectrum(freq_hz=freq_hz, values=values, vectors=vectors * phase, nperseg=int(nperseg))
 
 
+def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1) -> tuple[float, float]:
+    """Enhanced FDD: frequency and damping ratio of the mode whose peak is at
+    ``peak_bin`` of singular value ``sv_number``.
+
+    Brincker, Ventura and Andersen (2001): the single-degree-of-freedom bell
+    is the band of bins around the peak where one of the kept singular
+    vectors has a MAC of at least :data:`EFDD_MAC` with the peak's vector
+    (that vector's singular value taken at each bin, zero elsewhere); its
+    inverse FFT is the mode's correlation function, divided here by the
+    correlation of the Hann window (the window's own decay would add
+    damping). The logarithm of its extrema between the envelope levels
+    :data:`EFDD_LEVELS` is fitted by a line (slope ``-zeta omega_n``), its
+    zero crossings by another (half the damped period), and
+    ``omega_n = sqrt((zeta omega_n)^2 + omega_d^2)``.
+
+    Returns
+    -------
+    freq_hz : float
+        Undamped natural frequency (Hz); NaN when the bell's correlation
+        function has fewer than three extrema in the fitted range.
+    damping : float
+        Damping ratio; NaN then too.
+    """
+    from scipy.signal import find_peaks
+    from scipy.signal.windows import hann
+
+    k = positive_int("sv_number", sv_number) - 1
+    reference = spectrum.vectors[peak_bin, :, k]
+    macs = np.abs(np.einsum("fck,c->fk", spectrum.vectors.conj(), reference)) ** 2  # unit vectors
+    best, level = np.argmax(macs, axis=1), np.max(macs, axis=1)
+    low = high = peak_bin
+    while low > 1 and level[low - 1] >= EFDD_MAC:
+        low -= 1
+    while high < len(level) - 1 and level[high + 1] >= EFDD_MAC:
+        high += 1
+    bell = np.zeros(len(spectrum.freq_hz))
+    band = np.arange(low, high + 1)
+    bell[band] = spectrum.values[band, best[band]]
+    n = spectrum.nperseg
+    window = hann(n, sym=False)
+    window_correlation = np.correlate(window, window, "full")[n - 1:] / window.dot(window)
+    half = n // 2
+    r = np.fft.irfft(bell, n=n)[:half] / window_correlation[:half]
+    if not r[0] > 0:
+        return float("nan"), float("nan")
+    r = r / r[0]
+    lag_s = 1 / (2 * spectrum.freq_hz[-1]) if n % 2 == 0 else 1 / (spectrum.freq_hz[1] * n)
+    extrema, _ = find_peaks(np.abs(r))
+    extrema = np.concatenate([[0], extrema])
+    envelope = np.abs(r[extrema])
+    below = np.flatnonzero(envelope < EFDD_LEVELS[1])
+    extrema = extrema[:below[0]] if below.size else extrema
+    fitted = extrema[np.abs(r[extrema]) <= EFDD_LEVELS[0]]
+    if len(fitted) < 3:
+        return float("nan"), float("nan")
+    decay = -np.polyfit(fitted * lag_s, np.log(np.abs(r[fitted])), 1)[0]
+    end = fitted[-1]
+    signs = np.signbit(r[:end + 1])
+    crossings = np.flatnonzero(signs[1:] != signs[:-1])
+    times = (crossings + r[crossings] / (r[crossings] - r[crossings + 1])) * lag_s  # linear interpolation
+    if len(times) < 2 or not decay > 0:
+        return float("nan"), float("nan")
+    half_period = np.polyfit(np.arange(len(times)), times, 1)[0]
+    omega_d = np.pi / half_period
+    omega_n = np.hypot(decay, omega_d)
+    return float(omega_n / (2 * np.pi)), float(decay / omega_n)
+
+
 def support_tolerance_hz(freq_hz, damping, df) -> np.ndarray:
     """How far (Hz) from a mode a singular-value peak supports it:
     ``max(SUPPORT_BINS df, zeta f)`` (the half-power band), ``zeta`` clipped
@@ -207,8 +281,10 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         One row per mode: ``sv_peak_hz`` (the supporting peak's frequency,
         NaN without one), ``sv_number`` (which singular value peaks there:
         1 the first, 0 none), ``sv_mac`` (MAC between the mode's shape and
-        that singular value's vector at the peak bin; NaN without a peak)
-        and ``spectral_support`` (a peak was found).
+        that singular value's vector at the peak bin; NaN without a peak),
+        ``spectral_support`` (a peak was found), and the cross-check
+        ``efdd_freq_hz`` and ``efdd_damping`` of that peak (:func:`efdd`; NaN
+        without a peak or when its bell decays too fast to fit).
     """
     freq_hz = finite_array("freq_hz", np.atleast_1d(freq_hz), ndim=(1,)) if np.size(freq_hz) else np.empty(0)
     shapes = np.asarray(shapes)
@@ -223,12 +299,15 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         distance = np.abs(peaks["freq_hz"].to_numpy() - f)
         near = np.flatnonzero(distance <= tolerance[m])
         if near.size == 0:
-            rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "spectral_support": False})
+            rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "spectral_support": False,
+                         "efdd_freq_hz": np.nan, "efdd_damping": np.nan})
             continue
         peak = peaks.iloc[near[np.argmin(distance[near])]]
         vector = spectrum.vectors[int(peak["bin"]), :, int(peak["sv_number"]) - 1]
+        efdd_freq_hz, efdd_damping = efdd(spectrum, int(peak["bin"]), int(peak["sv_number"]))
         rows.append({"sv_peak_hz": float(peak["freq_hz"]), "sv_number": int(peak["sv_number"]),
-                     "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True})
+                     "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True,
+                     "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
 
 

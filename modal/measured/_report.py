@@ -26,7 +26,8 @@ MODE_HEADINGS = {
     "mode": "mode", "freq_hz": "frequency (Hz)", "freq_std_hz": "std (Hz)", "damping": "damping (%)",
     "damping_std": "std (%)", "n_poles": "poles", "mpc": "MPC", "mpd": "MPD (°)", "close": "close",
     "close_mac": "MAC nearest", "sv_peak_hz": "SV peak (Hz)", "sv_number": "SV", "sv_mac": "SV MAC",
-    "spectral_support": "spectral peak", "second_freq_hz": "2nd estimate (Hz)", "flag": "flag",
+    "spectral_support": "spectral peak", "efdd_freq_hz": "EFDD (Hz)", "efdd_damping": "EFDD damping (%)",
+    "second_freq_hz": "2nd estimate (Hz)", "flag": "flag",
 }
 #: ... of a roving test's merged modes.
 MERGED_HEADINGS = {
@@ -34,7 +35,7 @@ MERGED_HEADINGS = {
     "damping_spread": "spread (%)", "n_setups": "setups", "n_from_diagram": "from diagram", "ref_mac": "ref. MAC",
     "mpc": "MPC", "n_nodes": "nodes", "setups": "in setups", "flag": "flag",
 }
-_PERCENT_COLUMNS = ("damping", "damping_std", "damping_spread")
+_PERCENT_COLUMNS = ("damping", "damping_std", "damping_spread", "efdd_damping")
 _TEXT_COLUMNS = ("flag", "setups", "setup", "modes_hz")
 
 
@@ -106,6 +107,8 @@ def evidence(modes: pd.DataFrame, n_orders: int) -> list[str]:
                 which = "first" if int(row["sv_number"]) == 1 else f"singular value {int(row['sv_number'])}'s"
                 parts.append(f"a {which} singular-value peak at {row['sv_peak_hz']:.4g} Hz "
                              f"(shape MAC {row['sv_mac']:.2f} with its singular vector)")
+                if np.isfinite(row.get("efdd_freq_hz", np.nan)):
+                    parts.append(f"EFDD {row['efdd_freq_hz']:.4g} Hz, damping {PERCENT * row['efdd_damping']:.2g} %")
             else:
                 parts.append("no singular-value peak near it")
         flag = row.get("flag")
@@ -175,7 +178,8 @@ def identification_report(folder, result, settings: dict, title: str, steps=(), 
                                                        if settings.get("decimation", 1) > 1 else "") + ".")
     modes_note = ("Flagged modes (shaded) are doubtful for the reason given; the standard deviations are those of "
                   "the estimates (from segments of the record); SV peak: the nearest peak of the singular values "
-                  "of the spectral density matrix, SV MAC: the MAC of the mode's shape with that singular vector.")
+                  "of the spectral density matrix, SV MAC: the MAC of the mode's shape with that singular vector; "
+                  "EFDD: frequency and damping from that peak's bell (enhanced FDD), a cross-check.")
     figures = [{"heading": "Stabilisation diagram",
                 "caption": "Poles by model order over the singular values of the record's spectral density matrix "
                            "(dB, right axis; the first darker). Red: poles clustered into a mode; vertical lines: "

@@ -69,7 +69,7 @@ def _same_diagram(got, expected):
     pd.testing.assert_frame_equal(result.poles, reference.poles, rtol=1e-9)
     # identify_record adds the spectral witness's columns (modal.spectral_support) to the diagram's modes.
     assert list(result.modes.columns) == [*reference.modes.columns, "sv_peak_hz", "sv_number", "sv_mac",
-                                          "spectral_support"]
+                                          "spectral_support", "efdd_freq_hz", "efdd_damping"]
     pd.testing.assert_frame_equal(result.modes[reference.modes.columns], reference.modes, rtol=1e-9)
     np.testing.assert_allclose(result.singular_values, reference.singular_values, rtol=1e-10)
     return dt
