@@ -33,7 +33,7 @@ def _nan(n: int) -> np.ndarray:
     return np.full(n, np.nan)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, repr=False)
 class ModalResult:
     """Identified modes, sorted by natural frequency.
 
@@ -105,6 +105,16 @@ class ModalResult:
         for name in FLAGS:
             if getattr(self, name) is None:
                 object.__setattr__(self, name, np.zeros(n, dtype=bool))
+
+    def __repr__(self) -> str:
+        """One line, whatever the size (the arrays are in the attributes and
+        :meth:`to_frame`): the method, the frequencies in Hz, the channels
+        and how many modes each flag marks."""
+        shown = ", ".join(f"{f:.4g}" for f in self.freq_hz[:8]) + (", ..." if self.n_modes > 8 else "")
+        flagged = ", ".join(f"{int(np.count_nonzero(getattr(self, name)))} {name}" for name in FLAGS
+                            if np.any(getattr(self, name)))
+        return (f"<ModalResult {self.method}: {self.n_modes} modes at [{shown}] Hz, "
+                f"{self.shapes.shape[0]} channels{'; ' + flagged if flagged else ''}>")
 
     @property
     def n_modes(self) -> int:

@@ -295,3 +295,19 @@ def test_warn_not_free_response_threshold_and_lowest_frequency():
         warn_not_free_response(found, twice, dt)
     (w,) = record
     assert "lowest it found, 0.5 Hz" in str(w.message)
+
+
+def test_repr_is_one_line_in_hz_whatever_the_size():
+    """At the prompt a result shows its method, frequencies in Hz (not rad/s),
+    channels and flag counts on one line, not every array."""
+    omega = 2 * np.pi * np.arange(1.0, 11.0)  # 1 ... 10 Hz
+    shapes = np.ones((500, 10))
+    flags = np.zeros(10, dtype=bool)
+    flags[[2, 7]] = True
+    res = modal.ModalResult(omega=omega, shapes=shapes, method="era", real_pole=flags)
+    text = repr(res)
+    assert "\n" not in text and len(text) < 200
+    assert text == ("<ModalResult era: 10 modes at [1, 2, 3, 4, 5, 6, 7, 8, ...] Hz, 500 channels; "
+                    "2 real_pole>")
+    few = modal.ModalResult(omega=omega[:2] * 1.23456, shapes=shapes[:3, :2], method="tcm")
+    assert repr(few) == "<ModalResult tcm: 2 modes at [1.235, 2.469] Hz, 3 channels>"
