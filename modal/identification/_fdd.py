@@ -49,6 +49,9 @@ SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efd
 #: EFDD: the single-degree-of-freedom bell of a peak is the band around it
 #: where a kept singular vector has at least this MAC with the peak's ...
 EFDD_MAC = 0.8
+#: ... and stays within this many dB of the peak (the whole spectrum would be
+#: one bell where every vector is alike: a single channel) ...
+EFDD_RANGE_DB = 20.0
 #: ... and its correlation function's decay is fitted between these levels
 #: of its envelope (Brincker, Ventura and Andersen 2001 fit a similar range).
 EFDD_LEVELS = (0.9, 0.1)
@@ -176,14 +179,17 @@ def fdd(y, dt, nperseg=None, n_values=N_VALUES) -> SingularValueSpectrum:
     return SingularValueSpectrum(freq_hz=freq_hz, values=values, vectors=vectors * phase, nperseg=int(nperseg))
 
 
-def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1) -> tuple[float, float]:
+def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1, limits=None) -> tuple[float, float]:
     """Enhanced FDD: frequency and damping ratio of the mode whose peak is at
     ``peak_bin`` of singular value ``sv_number``.
 
     Brincker, Ventura and Andersen (2001): the single-degree-of-freedom bell
     is the band of bins around the peak where one of the kept singular
     vectors has a MAC of at least :data:`EFDD_MAC` with the peak's vector
-    (that vector's singular value taken at each bin, zero elsewhere); its
+    and its singular value is within :data:`EFDD_RANGE_DB` of the peak's,
+    within ``limits`` (first and last bin; :func:`spectral_support` gives
+    half-way to the neighbouring peaks) (that singular value taken at each
+    bin, zero elsewhere); its
     inverse FFT is the mode's correlation function, divided here by the
     correlation of the Hann window (the window's own decay would add
     damping). The logarithm of its extrema between the envelope levels
@@ -205,15 +211,18 @@ def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1) -> 
     k = positive_int("sv_number", sv_number) - 1
     reference = spectrum.vectors[peak_bin, :, k]
     macs = np.abs(np.einsum("fck,c->fk", spectrum.vectors.conj(), reference)) ** 2  # unit vectors
-    best, level = np.argmax(macs, axis=1), np.max(macs, axis=1)
+    best = np.argmax(macs, axis=1)
+    value = spectrum.values[np.arange(len(best)), best]
+    inside = (np.max(macs, axis=1) >= EFDD_MAC) & (value >= spectrum.values[peak_bin, k] * 10 ** (-EFDD_RANGE_DB / 10))
+    first, last = (1, len(inside) - 1) if limits is None else (max(1, limits[0]), min(len(inside) - 1, limits[1]))
     low = high = peak_bin
-    while low > 1 and level[low - 1] >= EFDD_MAC:
+    while low > first and inside[low - 1]:
         low -= 1
-    while high < len(level) - 1 and level[high + 1] >= EFDD_MAC:
+    while high < last and inside[high + 1]:
         high += 1
     bell = np.zeros(len(spectrum.freq_hz))
     band = np.arange(low, high + 1)
-    bell[band] = spectrum.values[band, best[band]]
+    bell[band] = value[band]
     n = spectrum.nperseg
     window = hann(n, sym=False)
     window_correlation = np.correlate(window, window, "full")[n - 1:] / window.dot(window)
@@ -304,7 +313,11 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
             continue
         peak = peaks.iloc[near[np.argmin(distance[near])]]
         vector = spectrum.vectors[int(peak["bin"]), :, int(peak["sv_number"]) - 1]
-        efdd_freq_hz, efdd_damping = efdd(spectrum, int(peak["bin"]), int(peak["sv_number"]))
+        bins, here = peaks["bin"].to_numpy(), int(peak["bin"])
+        below, above = bins[bins < here], bins[bins > here]
+        limits = ((here + below.max()) // 2 + 1 if below.size else 1,
+                  (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
+        efdd_freq_hz, efdd_damping = efdd(spectrum, here, int(peak["sv_number"]), limits)
         rows.append({"sv_peak_hz": float(peak["freq_hz"]), "sv_number": int(peak["sv_number"]),
                      "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True,
                      "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})
