@@ -99,6 +99,21 @@ def test_first_singular_value_peaks_at_the_closed_form_frequencies():
     assert np.all((support["efdd_damping"] > 0.005 / 1.6) & (support["efdd_damping"] < 0.005 * 1.6))
 
 
+def test_efdd_of_one_channel_gives_each_mode_its_own_bell():
+    """One channel: every singular vector is alike (MAC 1), so only the
+    level and the neighbouring peaks end a mode's bell; each mode's EFDD
+    frequency is its own (within 0.5 %), not one frequency for all."""
+    omega2, phi = scipy.linalg.eigh(STIFFNESS, MASS)
+    omega = np.sqrt(omega2)
+    alpha, beta = np.linalg.solve([[1 / (2 * omega[0]), omega[0] / 2], [1 / (2 * omega[1]), omega[1] / 2]],
+                                  [0.01, 0.01])
+    acc, _, _ = two_dof(MASS, alpha * MASS + beta * STIFFNESS, STIFFNESS, 2**15, 0.05, seed=2)
+    spectrum = modal.fdd(acc[:, :1], 0.05, nperseg=2048)
+    support = modal.spectral_support(spectrum, omega / (2 * np.pi), phi[:1], damping=[0.01, 0.01])
+    assert support["spectral_support"].all()
+    np.testing.assert_allclose(support["efdd_freq_hz"], omega / (2 * np.pi), rtol=0.005)
+
+
 def test_first_singular_vector_is_the_complex_shape_not_its_conjugate():
     """Non-proportional damping (one dashpot) and close modes give complex
     shapes (MAC of a shape with its conjugate 0.90): the first singular
