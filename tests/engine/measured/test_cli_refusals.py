@@ -172,8 +172,9 @@ def test_complete_results_replace_the_previous_ones(tmp_path, capsys):
     (out / "notes.txt").write_text("mine\n")
     code, _, _ = _run(capsys, "identify", PALISADEN, *PALISADEN_OPTIONS, "--out", out)
     assert code == 0
-    assert sorted(p.name for p in out.iterdir()) == ["candidates.csv", "complex_shapes.csv", "modes.csv", "notes.txt",
-                                                     "poles.csv", "settings.json", "stabilisation.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["candidates.csv", "complex_shapes.csv", "mac.csv", "mac.png",
+                                                     "modes.csv", "notes.txt", "poles.csv", "report.html",
+                                                     "settings.json", "singular_values.csv", "stabilisation.png"]
     assert len(pd.read_csv(out / "modes.csv")) >= 3
     settings = json.loads((out / "settings.json").read_text())
     assert settings["options"]["fmax"] == 5 and settings["options"]["highpass_hz"] == 0.5
