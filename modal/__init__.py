@@ -34,8 +34,9 @@ from typing import TYPE_CHECKING
 _LAZY_NAMES = {
     "identification": (
         "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
-        "align_shapes", "auto_mac", "cera", "decompose", "era", "fdd", "hankel", "mac", "modal_amplitude_coherence",
-        "modal_phase_collinearity", "spectral_support", "stabilisation", "stabilisation_figure", "tcm",
+        "align_shapes", "auto_mac", "cera", "decompose", "efdd", "era", "fdd", "hankel", "mac",
+        "modal_amplitude_coherence", "modal_phase_collinearity", "spectral_support", "stabilisation",
+        "stabilisation_figure", "tcm",
     ),
     "measured": (
         "IdentifyOptions", "OutputError", "available_memory", "identify_record", "memory_needed", "write_identification",
@@ -87,7 +88,8 @@ def __dir__():
 
 if TYPE_CHECKING:  # what static type checkers and IDEs see; never run (tested against _LAZY_NAMES)
     from .identification import (FLAGS, ModalResult, ModalWarning, SingularValueSpectrum, Stabilisation,
-                                 StabilityCriteria, align_shapes, auto_mac, cera, decompose, era, fdd, hankel, mac,
+                                 StabilityCriteria, align_shapes, auto_mac, cera, decompose, efdd, era, fdd, hankel,
+                                 mac,
                                  modal_amplitude_coherence, modal_phase_collinearity, spectral_support,
                                  stabilisation, stabilisation_figure, tcm)
     from .measured import (IdentifyOptions, OutputError, available_memory, identify_record, memory_needed,

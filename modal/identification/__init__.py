@@ -19,12 +19,11 @@ from ._result import FLAGS, ModalResult, ModalWarning
 from ._stabilisation import QUANTITIES, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure), efdd and segment_std are importable from here for the
+# QUANTITIES (what a channel may measure) and segment_std are importable from here for the
 # other subpackages (a channel table checks its quantities against QUANTITIES); the names
 # below are also re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
-    "align_shapes", "auto_mac", "cera", "decompose", "era", "fdd", "hankel", "mac", "modal_amplitude_coherence",
-    "modal_phase_collinearity",
-    "spectral_support", "stabilisation", "stabilisation_figure", "tcm",
+    "align_shapes", "auto_mac", "cera", "decompose", "efdd", "era", "fdd", "hankel", "mac",
+    "modal_amplitude_coherence", "modal_phase_collinearity", "spectral_support", "stabilisation", "stabilisation_figure", "tcm",
 ]
