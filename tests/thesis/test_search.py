@@ -209,3 +209,26 @@ def test_era_rows_of_one_mode_across_seeds_stay_one_row():
     stats = aggregate(frame, 0)
     assert len(stats) == 1 and stats["reproduced"].iloc[0] == pytest.approx(26.95)
     assert stats["real_pole_frac"].iloc[0] == pytest.approx(1 / 3) and stats["actual"].iloc[0] == 8.0
+
+
+def test_a_setting_runs_as_each_interpretation_reads_the_study_searched_values_on_top():
+    studies = {"cera": {"beam": "b", "interpretations": ["named", "guideline"], "cases": {"c1": {"damping": 0.0,
+                                                                                                   "noise": 0.0}},
+                        "methods": {"cera": {"n_modes": 6, "cols": 1440, "start": 0}}, "cols_sweep": [300]}}
+    beams = {"b": {"samples_per_period": 10, "period_mode": 6, "n_samples": 3594}}
+    tables = {7: {"study": "cera", "case": "c1"}}
+    spec = {"study": "cera", "tables": [7], "vary": {"signals.cera": ["displacement"], "methods.cera.cols": [491]}}
+    (setting,) = search.search_settings(spec, studies, beams, tables).values()
+    assert not setting["default"] and "signals" not in setting["study"]
+    guideline = {"tcm": ["velocity", "acceleration"], "era": "acceleration", "cera": "velocity",
+                 "studies": {"cera": {"beam": {"period_mode": 3, "n_samples": 899}, "cols_sweep": [500],
+                                      "methods": {"cera": {"cols": 500, "eigenproblem": "as_printed"}}}}}
+    study, beam, signals = search.setting_under(setting, guideline, "cera")
+    assert study["methods"]["cera"] == {"n_modes": 6, "cols": 491, "start": 0, "eigenproblem": "as_printed"}
+    assert beam["period_mode"] == 3 and beam["n_samples"] == 899 and "cols_sweep" not in study
+    assert signals == {"tcm": ["velocity", "acceleration"], "era": "acceleration", "cera": "displacement"}
+    named = {"tcm": ["velocity", "acceleration"], "era": "acceleration", "cera": "acceleration"}
+    study, beam, signals = search.setting_under(setting, named, "cera")
+    assert study["methods"]["cera"]["cols"] == 491 and beam == beams["b"] and signals["cera"] == "displacement"
+    with pytest.raises(ValueError, match="signals.tcm"):
+        search.search_settings({**spec, "vary": {"signals.tcm": ["velocity"]}}, studies, beams, tables)
