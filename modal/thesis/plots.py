@@ -219,8 +219,8 @@ def cera_sensitivity_figure(table: pd.DataFrame, title: str, panels: Mapping[str
         ax.set_yscale("symlog", linthresh=1.0)
         ax.set_ylabel("error (%)")
         ax.set_title(panels[case], fontsize=8, loc="left")
-    axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods at multiples of 360, of 90 for the "
-                        "guideline reading)" if isinstance(configured, Mapping) and len(set(configured.values())) > 1
+    axes[-1].set_xlabel("Hankel width s (samples; whole fundamental periods: multiples of 360, guideline 90)"
+                        if isinstance(configured, Mapping) and len(set(configured.values())) > 1
                         else "Hankel width s (samples; whole fundamental periods at multiples of 360)")
     _legend_below(fig, axes, ncols=2)
     _suptitle(fig, title + "\n(error axis linear within ±1 %, logarithmic beyond)", width=95, fontsize=9)
