@@ -196,7 +196,9 @@ def readme_python_blocks(text: str) -> list[str]:
 @pytest.mark.parametrize("block", readme_python_blocks(README.read_text()))
 @pytest.mark.slow
 def test_readme_python_runs(block, tmp_path):
-    """The README's Python examples run from the project folder as shown."""
+    """The README's Python examples run from the project folder as shown,
+    without a warning: a first try that warns reads as a misuse."""
     (tmp_path / "tests").symlink_to(ROOT / "tests")
-    run = subprocess.run([sys.executable, "-c", block], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    run = subprocess.run([sys.executable, "-W", "error", "-c", block], cwd=tmp_path, capture_output=True, text=True,
+                         timeout=600)
     assert run.returncode == 0, f"{block}\n{run.stderr[-3000:]}"
