@@ -44,17 +44,42 @@ def _construct_mapping(loader, node, deep=False):
 _StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
 
 
+def config_text(path, raw: bytes) -> str:
+    """The text of the config file ``path`` (its bytes ``raw``): UTF-8, the
+    encoding YAML files are read in here.
+
+    Raises
+    ------
+    ValueError
+        Naming the file, what it holds instead (UTF-16, binary, another
+        encoding: the first byte that is not UTF-8) and how to fix it.
+    """
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise ValueError(f"config file {path}: UTF-16 text (it starts with a UTF-16 byte order mark); "
+                         "a config is read as UTF-8: save it as UTF-8")
+    nul = raw.find(b"\x00")
+    if nul >= 0:
+        raise ValueError(f"config file {path}: binary data (a NUL byte at position {nul}), not a YAML text file")
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"config file {path}: not UTF-8 text (byte 0x{raw[exc.start]:02x} at position "
+                         f"{exc.start}: Latin-1 or another encoding?); save it as UTF-8") from None
+
+
 def load_strict(path) -> dict:
     """Read one YAML config file, refusing duplicate keys.
 
     Raises
     ------
     ValueError
-        Naming the file, the key and both lines.
+        Naming the file, the key and both lines; or the file is not UTF-8
+        text (:func:`config_text`).
     """
+    with open(path, "rb") as fh:
+        text = config_text(path, fh.read())
     try:
-        with open(path, encoding="utf-8") as fh:
-            return yaml.load(fh, Loader=_StrictLoader) or {}
+        return yaml.load(text, Loader=_StrictLoader) or {}
     except ValueError as exc:
         raise ValueError(f"config file {path}: {exc}") from None
     except yaml.YAMLError as exc:
@@ -79,7 +104,7 @@ def check_config_text(path) -> None:
     if size > MAX_CONFIG_BYTES:
         raise ValueError(f"config file {path}: {size} bytes, more than the {MAX_CONFIG_BYTES} a config may have")
     with open(path, "rb") as fh:
-        text = fh.read()
+        text = config_text(path, fh.read())
     try:
         n_aliases = sum(isinstance(e, yaml.AliasEvent) for e in yaml.parse(text, Loader=yaml.SafeLoader))
         if n_aliases > MAX_ALIASES:

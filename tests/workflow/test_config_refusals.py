@@ -235,6 +235,24 @@ def test_many_aliases_and_large_files_refused(tmp_path):
         mc.check_config_text(path)
 
 
+@pytest.mark.parametrize("raw, expected", [
+    ("seeds: {count: 3}\n".encode("utf-16"), r"UTF-16 text .* save it as UTF-8"),
+    (b"seeds:\x00\x01\x02", r"binary data \(a NUL byte at position 6\)"),
+    ("title: Br\u00fccke\n".encode("latin-1"), r"not UTF-8 text \(byte 0xfc at position 9"),
+])
+def test_config_not_utf8_text_refused_naming_the_file(raw, expected, tmp_path):
+    """Both readers (the text check and the strict loader) say what the file
+    holds instead of UTF-8 YAML, naming it; a UTF-8 file with the same
+    characters reads."""
+    path = tmp_path / "c.yaml"
+    path.write_bytes(raw)
+    for read in (mc.check_config_text, mc.load_strict):
+        with pytest.raises(ValueError, match=f"config file {path}: {expected}"):
+            read(path)
+    path.write_text("title: Br\u00fccke\n", encoding="utf-8")
+    assert mc.load_strict(path) == {"title": "Br\u00fccke"}
+
+
 def test_alias_bomb_refused_before_snakemake_loads_it(project):
     """Snakemake itself expands a mapping bomb while loading --configfile
     (it never returns): regenerate.sh's pre-check refuses it first."""
