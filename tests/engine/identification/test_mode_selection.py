@@ -266,6 +266,11 @@ def test_documented_defaults():
     assert (criteria.max_damping, criteria.mpc_min, criteria.mamc_min) == (0.3, 0.0, 0.5)
     assert (criteria.cluster_distance, criteria.merge_distance, criteria.close_rtol) == (0.02, 0.04, 0.02)
     assert criteria.min_poles is None
+    assert (criteria.scatter_k, criteria.doubtful_mpc, criteria.doubtful_mamc) == (3.0, 0.7, 0.95)
+    assert (criteria.damping_factor, criteria.single_channel_share) == (5.0, 0.95)
+    from modal.identification import _stabilisation
+
+    assert (_stabilisation.MAD_SCALE, _stabilisation.SAME_SHAPE_ATOL) == (1.4826, 1e-9)
     from modal.identification import _era_kernels, _result
     from modal.measured import _pipeline
 

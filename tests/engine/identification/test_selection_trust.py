@@ -241,3 +241,88 @@ def test_a_low_mpc_mode_does_not_set_the_damping_median():
     table["mpc"][:20] = 0.5
     labels, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(), 8)
     assert modes["flag"].tolist() == ["low MPC 0.50", "damping 0.04 % implausible (median 0.62 %)", ""]
+
+
+def test_the_new_criteria_are_checked_naming_the_argument():
+    """scatter_k > 0, damping_factor > 1 (1 would flag every mode off the
+    median), doubtful_mpc, doubtful_mamc and single_channel_share in [0, 1];
+    the closed bounds are taken."""
+    criteria = modal.StabilityCriteria(scatter_k=0.5, damping_factor=1.01, doubtful_mpc=1.0, doubtful_mamc=0.0,
+                                       single_channel_share=1.0)
+    assert criteria.damping_factor == 1.01
+    for kwargs, name in [({"scatter_k": 0.0}, "scatter_k"), ({"damping_factor": 1.0}, "damping_factor"),
+                         ({"damping_factor": 0.0}, "damping_factor"), ({"doubtful_mpc": 1.01}, "doubtful_mpc"),
+                         ({"doubtful_mamc": -0.1}, "doubtful_mamc"),
+                         ({"single_channel_share": 1.5}, "single_channel_share")]:
+        with pytest.raises(ValueError, match=f"^{name} must"):
+            modal.StabilityCriteria(**kwargs)
+
+
+def test_shape_sameness_is_judged_against_the_clusters_own_scatter():
+    """Two clusters at the same orders 0.1 % apart, their shapes MAC 0.999,
+    beside a third mode (so the pair are not the first clusters): when each
+    cluster's shapes scatter by about 1e-6 in 1 - MAC, the pair are two
+    modes; when they scatter by about 1e-2, one mode with a second
+    estimate."""
+    other = np.array([0.2, -0.5, 0.9])
+    other -= other @ A / (A @ A) * A
+    angle = np.arccos(np.sqrt(0.999))
+    second = np.cos(angle) * A / np.linalg.norm(A) + np.sin(angle) * other / np.linalg.norm(other)
+    for noise, rows in ((1e-3, 3), (0.1, 2)):
+        rng = np.random.default_rng(4)
+        near_a = A / np.linalg.norm(A) + noise * rng.standard_normal((20, 3))
+        near_b = second + noise * rng.standard_normal((16, 3))
+        table, shapes = poles([(2.0, 0.01, B, ORDERS), (10.0, 0.01, near_a, ORDERS),
+                               (10.01, 0.01, near_b, ORDERS[4:])])
+        criteria = modal.StabilityCriteria(cluster_distance=0.5, merge_distance=0.5, mac_min=0.5)
+        _, modes, _, _, _ = _select_modes(table, shapes, criteria, 8)
+        assert len(modes) == rows, noise
+        assert modes["second_freq_hz"].notna().sum() == 3 - rows
+
+
+def test_clusters_at_or_above_the_limit_are_reported_apart():
+    """A cluster whose mean frequency equals the limit is above it (modes lie
+    below); clusters above with exactly min_poles poles are listed, by
+    frequency from index 0; one with fewer is neither listed nor a
+    candidate."""
+    table, shapes = poles([(2.0, 0.01, A, ORDERS), (7.0, 0.01, B, ORDERS[:8]), (5.0, 0.01, A, ORDERS[:8]),
+                           (9.0, 0.01, B, ORDERS[:7])])
+    _, modes, _, candidates, above = _select_modes(table, shapes, modal.StabilityCriteria(), 8, limit=5.0)
+    assert modes["freq_hz"].tolist() == [2.0] and candidates.empty
+    assert above["freq_hz"].tolist() == [5.0, 7.0] and above["n_poles"].tolist() == [8, 8]
+    assert above.index.tolist() == [0, 1]
+
+
+def test_the_larger_of_two_second_estimates_is_stated_below_or_above():
+    """A mode of 20 poles at 10 Hz with two clusters of its shape at the same
+    orders, 16 poles at 10.01 Hz and 12 at 9.995 Hz: one row, the 16-pole
+    cluster stated as the second estimate; a single second estimate below the
+    mode's frequency is stated too. The modes table has the documented
+    columns."""
+    from modal.identification._stabilisation import MODE_COLUMNS
+
+    table, shapes = poles([(10.0, 0.01, A, ORDERS), (10.01, 0.02, A, ORDERS[4:]), (9.995, 0.03, A, ORDERS[8:])])
+    labels, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(cluster_distance=1e-4), 8)
+    assert list(modes.columns) == MODE_COLUMNS
+    assert len(modes) == 1 and modes["second_freq_hz"][0] == pytest.approx(10.01) and (labels == 1).all()
+    table, shapes = poles([(10.0, 0.01, A, ORDERS), (9.995, 0.03, A, ORDERS[8:])])
+    _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(cluster_distance=1e-4), 8)
+    assert modes["second_freq_hz"].tolist() == pytest.approx([9.995])
+    assert modes["second_damping"].tolist() == pytest.approx([0.03])
+
+
+def test_single_channel_is_judged_in_each_channels_own_quantity():
+    """Two channels see one mode (3 Hz) equally, the first as displacement,
+    the second as acceleration (``s^2`` times larger, about 355 at 3 Hz):
+    declared as such, the shape is brought to displacement, and each
+    entry back in its channel's quantity over that channel's RMS weighs the
+    two alike: not 'single channel' (undoing the conversion the wrong way,
+    or with 2/pi for 2 pi, leaves one channel holding nearly everything)."""
+    dt, n = 0.01, 800
+    s = 2 * np.pi * 3.0 * (-0.02 + 1j * np.sqrt(1 - 0.02**2))
+    wave = np.exp(s * dt * np.arange(n))
+    y = np.column_stack([wave.real, (s**2 * wave).real])
+    y += 1e-5 * y.std(axis=0) * np.random.default_rng(6).standard_normal(y.shape)
+    result = modal.stabilisation(y, dt, 8, 40, quantities=["displacement", "acceleration"])
+    assert result.modes["freq_hz"].tolist() == pytest.approx([3.0], rel=1e-4)
+    assert result.modes["flag"].tolist() == [""]

@@ -1,0 +1,47 @@
+"""Mutation run of the mode selection (issue 32) against its fast tests.
+
+    .venv/bin/python benchmarks/mutation_selection.py            # all mutants, 2 at a time
+    .venv/bin/python benchmarks/mutation_selection.py --list     # the mutants only
+    .venv/bin/python benchmarks/mutation_selection.py --json v.json
+
+The machinery is :mod:`mutation_campaign`'s (the same systematic edits, a
+forked child per mutant on its own copy of the tree, a timeout); only the
+targets, the tests and the list of equivalent survivors
+(``benchmarks/mutation_selection_equivalent.txt``) differ. Targets: the
+functions of ``modal/identification/_stabilisation.py`` that select,
+judge and flag modes, state second estimates and notes, and check the
+criteria.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import mutation_campaign as machinery  # noqa: E402
+
+SOURCE = "modal/identification/_stabilisation.py"
+FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_notes",
+             "trusted_modes", "__post_init__")
+TRUST = "tests/engine/identification/test_selection_trust.py"
+STAB = "tests/engine/identification/test_stabilisation.py::"
+MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
+SELECTION = "tests/engine/identification/test_mode_selection.py::"
+
+machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS]
+machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
+    "test_stability_criteria_bounds_and_names", "test_select_modes_on_a_known_pole_table",
+    "test_select_modes_needs_min_poles_candidates", "test_select_modes_without_a_large_enough_cluster",
+    "test_select_modes_joins_groups_by_average_linkage", "test_select_modes_weighs_damping_with_frequency",
+    "test_select_modes_numbers_modes_by_mean_frequency", "test_select_modes_one_pole_modes_have_nan_spread_silently",
+    "test_stabilisation_stops_at_the_numerical_rank")] + [MUTANTS + t for t in (
+        "test_one_mode_table_types", "test_select_modes_small_tables", "test_select_modes_medoid_is_the_central_pole",
+        "test_select_modes_candidates_need_half_of_min_poles", "test_select_modes_cut_at_cluster_distance",
+        "test_select_modes_same_order_poles_never_share_a_cluster", "test_select_modes_spread_and_candidate_table",
+        "test_select_modes_cuts_by_distance_and_sorts_candidates")] + [
+    SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults"]}
+machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_selection_equivalent.txt"
+
+if __name__ == "__main__":
+    sys.exit(machinery.main())
