@@ -5,13 +5,14 @@ global frame, and the shapes drawn on the structure."""
 from ._channels import direction_from_angles, read_channel_table, read_pyoma_setup
 from ._geometry import Geometry, read_geometry
 from ._drawing import draw_mode, mode_shape_animation, mode_shape_figure, modes_figure, node_motion
-from ._merge import MergedModes, Setup, check_setups, identify_setup, merge_setups, node_shapes, read_setup
+from ._merge import (MergedModes, Setup, check_setups, identify_setup, merge_setups, node_shapes, normalise, read_setup,
+                     required_setups)
 from ._results import draw_modes, write_setups
 from ._simulated import plate_roving_test, save_geometry, save_setup
 
 __all__ = [
     "Geometry", "MergedModes", "Setup", "check_setups", "direction_from_angles", "draw_mode", "draw_modes",
     "identify_setup", "merge_setups", "mode_shape_animation", "mode_shape_figure", "modes_figure",
-    "node_motion", "node_shapes", "plate_roving_test", "read_channel_table", "read_geometry",
-    "read_pyoma_setup", "read_setup", "save_geometry", "save_setup", "write_setups",
+    "node_motion", "node_shapes", "normalise", "plate_roving_test", "read_channel_table", "read_geometry",
+    "read_pyoma_setup", "read_setup", "required_setups", "save_geometry", "save_setup", "write_setups",
 ]

@@ -6,7 +6,7 @@ node by node into the global frame."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -14,6 +14,8 @@ import pandas as pd
 
 from ..identification import Stabilisation, mac, modal_phase_collinearity
 from ..records import read_record
+from ._agreement import (DISAGREEMENT_COLUMNS, REF_MAC_AGREE, REF_RESIDUAL_MAX, relative_uncertainty,
+                         setup_disagreements, tolerance)
 from ._channels import dof_keys, read_channel_table, read_pyoma_setup, unit_factor
 
 #: Record files a setup folder may hold beside ``channels.csv``.
@@ -22,6 +24,10 @@ RECORD_SUFFIXES = (".npy", ".npz", ".csv", ".txt", ".tsv", ".lvm", ".uff", ".unv
 #: A node's direction is resolved when its measuring directions span it to
 #: this tolerance (squared norm of the axis projected on their span).
 SPAN_TOL = 1e-6
+
+#: A node moving more than this many times as much as every node linked to
+#: it is flagged and does not set a shape's scale (:func:`normalise`).
+NODE_FACTOR = 1.5
 
 
 @dataclass(frozen=True)
@@ -124,8 +130,12 @@ def check_setups(setups) -> list[tuple]:
 
 def identify_setup(setup: Setup, options=None, **keywords) -> tuple[Stabilisation, float]:
     """:func:`modal.identify_record` on a setup's channels, in SI units, with
-    its reference channels as the correlations' references and each
-    channel's quantity (so mixed quantities give one shape).
+    each channel's quantity (so mixed quantities give one shape), as ``modal
+    identify`` identifies a record alone: every channel is a reference of
+    the correlations, so a mode seen only by the roving sensors is found
+    too (the reference channels serve the merge, :func:`merge_setups`, not
+    the identification: with them as the only correlation references, a
+    15-storey building gave 6 modes per setup instead of 7-9).
 
     Parameters
     ----------
@@ -150,10 +160,7 @@ def identify_setup(setup: Setup, options=None, **keywords) -> tuple[Stabilisatio
     t = setup.channels
     factors = np.array([unit_factor(q, u) for q, u in zip(t["quantity"], t["unit"])])
     acc = setup.record.acc[:, t["channel"].to_numpy()] * factors
-    roles = t["role"].to_numpy()
-    refs = None if (roles == "reference").all() or not (roles == "reference").any() else \
-        [int(c) for c in np.flatnonzero(roles == "reference")]
-    options = options.replace(refs=refs, quantities=list(t["quantity"]))
+    options = options.replace(quantities=list(t["quantity"]))
     return identify_record(acc, setup.record.dt, options, channel_labels=list(t["channel"]), **calls)
 
 
@@ -166,29 +173,42 @@ class MergedModes:
     modes : pandas.DataFrame
         One row per mode: ``mode``, ``freq_hz`` and ``freq_spread_hz``,
         ``damping`` and ``damping_spread`` (ratio; mean and standard
-        deviation over the setups in which the mode was selected),
-        ``n_setups`` (selected in), ``n_from_diagram`` (setups whose shape came
-        from their diagram, :func:`merge_setups`), ``setups`` (names),
-        ``ref_mac`` (smallest MAC of a setup's reference part with the
-        consensus), ``mpc`` of the merged shape, ``n_nodes`` (nodes with a
-        shape).
+        deviation over the setups in which the mode was selected and
+        merged), ``n_setups`` (selected and merged in), ``n_from_diagram``
+        (setups whose shape came from their diagram, :func:`merge_setups`),
+        ``setups`` (names), ``left_out`` (setups left out of this mode: see
+        ``matches``), ``ref_mac`` (smallest MAC of a merged setup's
+        reference part with the others'), ``mpc`` of the merged shape,
+        ``n_nodes`` (nodes with a shape), ``n_flagged`` (nodes flagged in
+        ``shapes``).
     shapes : pandas.DataFrame
         Long form, one row per mode and node: ``mode``, ``node``, ``x``,
-        ``y``, ``z`` (real view in the global frame, largest component 1;
-        NaN where no channel measures that direction), ``x_im``, ``y_im``,
-        ``z_im`` (the imaginary parts: a complex mode's phases).
+        ``y``, ``z`` (real view in the global frame, NaN where no channel
+        measures that direction), ``x_im``, ``y_im``, ``z_im`` (the
+        imaginary parts: a complex mode's phases), ``flag`` (why a node's
+        motion is doubtful, empty when it is not). Normalised so that the
+        largest component of the nodes not flagged is 1 (:func:`normalise`).
     matches : pandas.DataFrame
-        One row per mode and setup that holds it: ``mode``, ``setup``,
-        ``setup_mode`` (its number in the setup's ``modes.csv``; 0 when taken
-        from the diagram), ``source`` (``selected`` or ``diagram``),
-        ``freq_hz``, ``damping``, ``ref_mac``, ``ref_share`` (the reference
-        channels' part of the setup's shape: small means a poorly scaled
-        merge), ``scale`` (modulus of the rescaling factor).
+        One row per mode and setup that holds it or was left out of it:
+        ``mode``, ``setup``, ``setup_mode`` (its number in the setup's
+        ``modes.csv``; 0 when taken from the diagram or not found),
+        ``source`` (``selected`` or ``diagram``), ``status`` (``merged`` or
+        ``left out``), ``reason`` (why it was left out), ``freq_hz``,
+        ``damping``, ``ref_mac`` (MAC of its reference part with the
+        others': 1 - ``ref_mac`` is the squared relative residual of its
+        complex scale fit), ``ref_share`` (the reference channels' part of
+        the setup's shape: small means a poorly scaled merge), ``scale``
+        (modulus of the rescaling factor).
+    disagreements : pandas.DataFrame
+        The setups left out of the whole merge, one row per check they
+        failed: ``setup``, ``check``, ``evidence``
+        (:func:`modal.setups._agreement.setup_disagreements`).
     """
 
     modes: pd.DataFrame
     shapes: pd.DataFrame
     matches: pd.DataFrame
+    disagreements: pd.DataFrame = field(default_factory=lambda: pd.DataFrame(columns=DISAGREEMENT_COLUMNS))
 
 
 def _consensus(refs: np.ndarray) -> np.ndarray:
@@ -200,18 +220,23 @@ def _consensus(refs: np.ndarray) -> np.ndarray:
 
 
 def _match(items, freq_rtol, mac_min) -> list[list]:
-    """Greedy clusters of ``items`` (setup, mode, freq, refs) in order of
-    frequency: an item joins the nearest cluster in frequency within
-    ``freq_rtol`` that holds no mode of its setup yet and whose consensus
-    reference part it matches with MAC >= ``mac_min``."""
+    """Greedy clusters of ``items`` (setup, mode, freq, refs, relative
+    uncertainty) in order of frequency: an item joins the nearest cluster in
+    frequency that holds no mode of its setup yet, lies within the
+    tolerance (``freq_rtol``, or :func:`tolerance` of the item's and the
+    cluster's uncertainty, the scatter of its members included) and whose
+    consensus reference part it matches with MAC >= ``mac_min``."""
     clusters = []
     for item in sorted(items, key=lambda it: it[2]):
-        s, _, f, r = item
+        s, _, f, r, u = item
         best, best_gap = None, None
         for cluster in clusters:
-            freq = np.mean([it[2] for it in cluster])
+            freqs = np.array([it[2] for it in cluster])
+            freq = freqs.mean()
             gap = abs(f - freq) / freq
-            if gap > freq_rtol or any(it[0] == s for it in cluster):
+            spread = np.sqrt(np.mean([it[4] ** 2 for it in cluster]) + (freqs.std() / freq) ** 2)
+            limit = tolerance(u, spread) if freq_rtol is None else freq_rtol
+            if gap > limit or any(it[0] == s for it in cluster):
                 continue
             if r.size and mac(r[:, None], _consensus(np.stack([it[3] for it in cluster], axis=1))[:, None])[0, 0] \
                     < mac_min:
@@ -223,6 +248,64 @@ def _match(items, freq_rtol, mac_min) -> list[list]:
         else:
             best.append(item)
     return clusters
+
+
+def _left_one_out(cluster) -> tuple[list, list]:
+    """The members of ``cluster`` whose reference part agrees with the
+    consensus of the others (the residual of its complex scale fit at most
+    REF_RESIDUAL_MAX), and those that do not (with their MAC): a cluster
+    that a wrong reference part happened to start is not kept with it.
+    Clusters of fewer than three are kept as they are (with two, which one
+    is wrong cannot be told)."""
+    if len(cluster) < 3 or not cluster[0][3].size:
+        return cluster, []
+    kept, out = [], []
+    for i, item in enumerate(cluster):
+        others = np.stack([it[3] for j, it in enumerate(cluster) if j != i], axis=1)
+        value = mac(item[3][:, None], _consensus(others)[:, None])[0, 0]
+        if value >= REF_MAC_AGREE:
+            kept.append(item)
+        else:
+            out.append((item, value))
+    return kept, out
+
+
+def required_setups(n_setups: int, min_setups=None) -> int:
+    """The setups a merged mode must be selected in: ``min_setups``, or more
+    than half of ``n_setups`` (2 of 2, 2 of 3, 3 of 4, 3 of 5): a mode seen
+    in fewer is more likely a setup's spurious pole than the structure's."""
+    return n_setups // 2 + 1 if min_setups is None else int(min_setups)
+
+
+def normalise(per_node: dict, neighbours=None) -> tuple[complex, dict]:
+    """The complex factor that scales a merged shape, and the nodes flagged.
+
+    The rule: the nodes are taken from the largest motion (modulus over
+    their components) down; a node that moves more than NODE_FACTOR times
+    as much as every node linked to it (``neighbours``: node -> nodes, from
+    the geometry's lines and links; without them, every other node) is
+    flagged, and the first node that is not sets the scale: the shape is
+    divided by its largest component, which becomes 1 (real). One node that
+    disagrees with its neighbours (a miscalibrated or mislabelled channel)
+    then does not set the scale of all the others, and says so.
+    """
+    moduli = {node: float(np.sqrt(np.nansum(np.abs(u) ** 2))) for node, u in per_node.items()
+              if np.isfinite(u).any()}
+    flags, chosen = {}, None
+    for node in sorted(moduli, key=moduli.get, reverse=True):
+        if neighbours is None:
+            near = [m for other, m in moduli.items() if other != node]
+        else:
+            near = [moduli[other] for other in neighbours.get(node, ()) if other in moduli]
+        if near and moduli[node] > NODE_FACTOR * max(near):
+            flags[node] = (f"moves {moduli[node] / max(near):.2g} x as much as any "
+                           f"{'node linked to it' if neighbours is not None else 'other node'}: not used to normalise")
+            continue
+        chosen = node
+        break
+    values = [c for c in per_node.get(chosen, ()) if np.isfinite(c)]
+    pivot = max(values, key=abs) if values else 1.0
+    return (pivot if abs(pivot) > 0 else 1.0), flags
 
 
 def _from_diagram(result: Stabilisation, ref_rows, freq, consensus, freq_rtol, mac_min):
@@ -272,36 +355,64 @@ def node_shapes(channel_rows, values) -> dict:
     return out
 
 
-def merge_setups(setups, results, freq_rtol=0.01, mac_min=0.8, min_setups=None) -> MergedModes:
+def _neighbours(geometry) -> dict | None:
+    """Node -> the nodes a line or a link joins it to (None without a
+    geometry)."""
+    if geometry is None:
+        return None
+    pairs = [(str(a), str(b)) for a, b in geometry.lines]
+    pairs += [(str(p), str(c)) for p, c in zip(geometry.links["parent"], geometry.links["child"])]
+    out = {}
+    for a, b in pairs:
+        out.setdefault(a, set()).add(b)
+        out.setdefault(b, set()).add(a)
+    return out
+
+
+def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, geometry=None) -> MergedModes:
     """Merge the modes of several setups (PoSER).
 
-    1. Modes are matched across setups (:func:`_match`): within
-       ``freq_rtol`` of each other and with reference parts of MAC >=
-       ``mac_min``; at most one mode per setup.
-    2. A matched mode a setup did not select is looked for in that setup's
+    1. The setups are compared with each other before any is merged
+       (:func:`modal.setups._agreement.setup_disagreements`: reference
+       levels, the ratio between reference channels, the reference part of
+       each mode, the frequencies); a setup that disagrees with more than
+       half of the others is left out of every mode, named in
+       ``disagreements`` and in ``matches``.
+    2. Modes are matched across setups (:func:`_match`): within the
+       frequency tolerance their own uncertainty and scatter give (or a
+       fixed ``freq_rtol``) and with reference parts of MAC >= ``mac_min``;
+       at most one mode per setup, the nearest cluster in frequency.
+       A member whose reference part disagrees with the consensus of the
+       others (the residual of its complex scale fit, sqrt(1 - MAC), above
+       REF_RESIDUAL_MAX) is left out of that mode and named in ``matches``.
+    3. A matched mode a setup did not select is looked for in that setup's
        diagram (stable physical poles near it, matching reference part), so
        the setup's roving nodes still get a shape (``source`` "diagram").
-    3. Each setup's shape ``phi_s`` is rescaled by the least-squares factor
+    4. Each setup's shape ``phi_s`` is rescaled by the least-squares factor
        ``a_s = r_s^H u / r_s^H r_s`` that brings its reference part ``r_s``
        onto the consensus ``u`` (first singular vector of the reference
        parts); reference channels take the mean of the rescaled values.
-    4. Each node's motion is resolved in the global frame from its channels'
-       directions (:func:`node_shapes`); the merged shape is rotated so its
-       largest component is real and positive, and scaled to 1.
+    5. Each node's motion is resolved in the global frame from its channels'
+       directions (:func:`node_shapes`); the shape is normalised by
+       :func:`normalise` (largest component 1 among the nodes that agree
+       with their neighbours; the others flagged).
 
     Parameters
     ----------
     setups : sequence of Setup
     results : sequence of Stabilisation
         One per setup, as :func:`identify_setup` returns them.
-    freq_rtol : float
-        Relative frequency tolerance of a match.
+    freq_rtol : float, optional
+        A fixed relative frequency tolerance of a match; default: from the
+        modes' own uncertainty (:func:`modal.setups._agreement.tolerance`).
     mac_min : float
         Smallest MAC of reference parts for a match.
     min_setups : int, optional
-        A mode must be selected in at least this many setups; default
-        half of them (rounded up): a mode seen in fewer is more likely a
-        setup's spurious pole than the structure's.
+        A mode must be selected in at least this many setups (left-out
+        setups do not count); default more than half of them
+        (:func:`required_setups`: both of two).
+    geometry : Geometry, optional
+        Its lines and links say which nodes are neighbours (:func:`normalise`).
 
     Returns
     -------
@@ -311,27 +422,57 @@ def merge_setups(setups, results, freq_rtol=0.01, mac_min=0.8, min_setups=None) 
     if len(setups) != len(results):
         raise ValueError(f"results: {len(results)} for {len(setups)} setups")
     keys = check_setups(setups)
-    min_setups = -(-len(setups) // 2) if min_setups is None else int(min_setups)
+    required = required_setups(len(setups), min_setups)
     ref_rows = [[dof_keys(s.channels).index(k) for k in keys] for s in setups]
+    disagreements = setup_disagreements(setups, results, keys, ref_rows)
+    bad = {s: "; ".join(disagreements.loc[disagreements["setup"] == setup.name, "evidence"])
+           for s, setup in enumerate(setups) if setup.name in set(disagreements["setup"])}
+    uncertainty = [relative_uncertainty(r.modes) for r in results]
+    freqs = [r.modes["freq_hz"].to_numpy(dtype=float) for r in results]
     if not keys:  # one setup without references: every mode stands alone
-        items = [(0, k, f, np.empty(0)) for k, f in enumerate(results[0].modes["freq_hz"])]
+        items = [(0, k, f, np.empty(0), uncertainty[0][k]) for k, f in enumerate(freqs[0])]
     else:
-        items = [(i, k, f, res.complex_shapes[ref_rows[i], k])
-                 for i, res in enumerate(results) for k, f in enumerate(res.modes["freq_hz"])]
-    clusters = sorted((c for c in _match(items, freq_rtol, mac_min) if len(c) >= min_setups),
-                      key=lambda c: np.mean([it[2] for it in c]))
+        items = [(i, k, f, res.complex_shapes[ref_rows[i], k], uncertainty[i][k])
+                 for i, res in enumerate(results) if i not in bad for k, f in enumerate(freqs[i])]
+    kept = []
+    for cluster in _match(items, freq_rtol, mac_min):
+        members, ejected = _left_one_out(cluster)
+        if len(members) >= required:
+            kept.append((members, ejected))
+    kept.sort(key=lambda c: np.mean([it[2] for it in c[0]]))
+    used = {(it[0], it[1]) for members, _ in kept for it in members}
+    neighbours = _neighbours(geometry)
     modes, shape_rows, matches = [], [], []
-    for number, cluster in enumerate(clusters, start=1):
+    for number, (cluster, ejected) in enumerate(kept, start=1):
         members = {}
-        for s, k, f, r in cluster:
+        for s, k, f, _, _ in cluster:
             m = results[s].modes.iloc[k]
             members[s] = (results[s].complex_shapes[:, k], float(f), float(m["damping"]), int(m["mode"]), "selected")
-        consensus = (_consensus(np.stack([results[s].complex_shapes[ref_rows[s], k] for s, k, _, _ in cluster],
-                                         axis=1)) if keys else np.empty(0))
+        selected_refs = {s: results[s].complex_shapes[ref_rows[s], k] for s, k, _, _, _ in cluster}
+        consensus = _consensus(np.stack(list(selected_refs.values()), axis=1)) if keys else np.empty(0)
         freq = float(np.mean([it[2] for it in cluster]))
-        for s, res in enumerate(results):
-            if s not in members and keys:
-                found = _from_diagram(res, ref_rows[s], freq, consensus, freq_rtol, mac_min)
+        spread = float(np.sqrt(np.mean([it[4] ** 2 for it in cluster])
+                               + (np.std([it[2] for it in cluster]) / freq) ** 2))
+        left_out = {}
+        for (s, k, f, r, _), value in ejected:
+            left_out[s] = (k, f, value, f"its reference part disagrees with the others': residual of its complex "
+                                        f"scale fit {np.sqrt(1 - value):.2f} > {REF_RESIDUAL_MAX:g} (MAC {value:.2f})")
+        for s in range(len(setups)):
+            if s in members or s in left_out or not keys:
+                continue
+            near = [k for k in range(len(freqs[s])) if (s, k) not in used and
+                    abs(freqs[s][k] - freq) <= (freq_rtol or tolerance(uncertainty[s][k], spread)) * freq]
+            k = min(near, key=lambda k: abs(freqs[s][k] - freq)) if near else None
+            value = np.nan if k is None else \
+                float(mac(results[s].complex_shapes[ref_rows[s], k][:, None], consensus[:, None])[0, 0])
+            if s in bad:
+                left_out[s] = (k, np.nan if k is None else freqs[s][k], value, bad[s])
+            elif k is not None and value < mac_min:
+                left_out[s] = (k, freqs[s][k], value, f"its mode {k + 1} ({freqs[s][k]:.4g} Hz) has a reference "
+                                                      f"part of MAC {value:.2f} < {mac_min:g} with the others'")
+            else:
+                found = _from_diagram(results[s], ref_rows[s], freq, consensus, freq_rtol or tolerance(spread, 0.0),
+                                      mac_min)
                 if found is not None:
                     members[s] = (*found, 0, "diagram")
         rows, values, ref_values = [], [], []
@@ -346,40 +487,49 @@ def merge_setups(setups, results, freq_rtol=0.01, mac_min=0.8, min_setups=None) 
                     rows.append((node, tuple(directions[c])))
                     values.append(scale * phi[c])
             ref_values.append(scale * r)
+            others = [v for t, v in selected_refs.items() if t != s]
+            against = _consensus(np.stack(others, axis=1)) if others else consensus
             matches.append({"mode": number, "setup": setups[s].name, "setup_mode": setup_mode, "source": source,
-                            "freq_hz": f, "damping": zeta,
-                            "ref_mac": float(mac(r[:, None], consensus[:, None])[0, 0]) if keys else np.nan,
+                            "status": "merged", "reason": "", "freq_hz": f, "damping": zeta,
+                            "ref_mac": float(mac(r[:, None], against[:, None])[0, 0]) if keys else np.nan,
                             "ref_share": float(np.linalg.norm(r) / np.linalg.norm(phi)) if keys else np.nan,
                             "scale": float(abs(scale))})
+        for s, (k, f, value, reason) in sorted(left_out.items()):
+            matches.append({"mode": number, "setup": setups[s].name, "setup_mode": 0 if k is None else k + 1,
+                            "source": "" if k is None else "selected", "status": "left out", "reason": reason,
+                            "freq_hz": f, "damping": np.nan if k is None else float(results[s].modes["damping"].iloc[k]),
+                            "ref_mac": value, "ref_share": np.nan, "scale": np.nan})
         if keys:
             mean_refs = np.mean(ref_values, axis=0)
             for j, key in enumerate(keys):
                 rows.append((key[0], key[1:]))
                 values.append(mean_refs[j])
         per_node = node_shapes(rows, values)
-        stacked = np.concatenate([per_node[n] for n in per_node])
-        known = stacked[~np.isnan(stacked)]
-        pivot = known[np.argmax(np.abs(known))] if known.size else 1.0
-        pivot = pivot if abs(pivot) > 0 else 1.0
+        pivot, flags = normalise(per_node, neighbours)
         for node, u in per_node.items():
             u = u / pivot
             shape_rows.append({"mode": number, "node": node, "x": u[0].real, "y": u[1].real, "z": u[2].real,
-                               "x_im": u[0].imag, "y_im": u[1].imag, "z_im": u[2].imag})
+                               "x_im": u[0].imag, "y_im": u[1].imag, "z_im": u[2].imag, "flag": flags.get(node, "")})
+        stacked = np.concatenate([per_node[n] for n in per_node])
+        known = stacked[~np.isnan(stacked)]
         selected = [members[s] for s in members if members[s][4] == "selected"]
-        freqs, dampings = np.array([m[1] for m in selected]), np.array([m[2] for m in selected])
-        ref_macs = [m["ref_mac"] for m in matches if m["mode"] == number]
+        frequencies, dampings = np.array([m[1] for m in selected]), np.array([m[2] for m in selected])
+        ref_macs = [m["ref_mac"] for m in matches if m["mode"] == number and m["status"] == "merged"]
         modes.append({
-            "mode": number, "freq_hz": freqs.mean(), "freq_spread_hz": freqs.std(ddof=1) if len(freqs) > 1 else np.nan,
-            "damping": dampings.mean(), "damping_spread": dampings.std(ddof=1) if len(freqs) > 1 else np.nan,
+            "mode": number, "freq_hz": frequencies.mean(),
+            "freq_spread_hz": frequencies.std(ddof=1) if len(frequencies) > 1 else np.nan,
+            "damping": dampings.mean(), "damping_spread": dampings.std(ddof=1) if len(frequencies) > 1 else np.nan,
             "n_setups": len(selected), "n_from_diagram": len(members) - len(selected),
             "setups": " ".join(setups[s].name for s in sorted(members)),
+            "left_out": " ".join(setups[s].name for s in sorted(left_out)),
             "ref_mac": float(np.min(ref_macs)) if keys and len(setups) > 1 else np.nan,
-            "mpc": float(modal_phase_collinearity(known[:, None] / pivot)[0]) if known.size else np.nan,
-            "n_nodes": len(per_node),
+            "mpc": float(modal_phase_collinearity(known[:, None])[0]) if known.size else np.nan,
+            "n_nodes": len(per_node), "n_flagged": len(flags),
         })
     mode_columns = ["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
-                    "setups", "ref_mac", "mpc", "n_nodes"]
-    shape_columns = ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im"]
-    match_columns = ["mode", "setup", "setup_mode", "source", "freq_hz", "damping", "ref_mac", "ref_share", "scale"]
+                    "setups", "left_out", "ref_mac", "mpc", "n_nodes", "n_flagged"]
+    shape_columns = ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"]
+    match_columns = ["mode", "setup", "setup_mode", "source", "status", "reason", "freq_hz", "damping", "ref_mac",
+                     "ref_share", "scale"]
     return MergedModes(pd.DataFrame(modes, columns=mode_columns), pd.DataFrame(shape_rows, columns=shape_columns),
-                       pd.DataFrame(matches, columns=match_columns))
+                       pd.DataFrame(matches, columns=match_columns), disagreements)

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pandas as pd
 
-from ._merge import MergedModes, identify_setup, merge_setups
+from ._merge import MergedModes, identify_setup, merge_setups, required_setups
 
 
-def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_min=0.8, min_setups=None,
+def write_setups(setups, out, options=None, geometry=None, freq_rtol=None, mac_min=0.8, min_setups=None,
                  animate=True, log: Callable[[str], None] | None = None, progress=None, command=None, **keywords):
     """Identify each setup, merge them (:func:`merge_setups`) and write
     ``out``:
@@ -111,7 +111,9 @@ def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_m
                                   warnings=[str(w.message) for w in caught[seen:]])
             log(f"  {len(result.modes)} modes: " + ", ".join(f"{f:.4g}" for f in result.modes["freq_hz"]) + " Hz")
             results.append(result)
-        merged = merge_setups(setups, results, freq_rtol=freq_rtol, mac_min=mac_min, min_setups=min_setups)
+        merged = merge_setups(setups, results, freq_rtol=freq_rtol, mac_min=mac_min, min_setups=min_setups,
+                              geometry=geometry)
+        log_merge(merged, log)
         merged.modes.to_csv(staging / "modes.csv", index=False, float_format="%.6g")
         merged.shapes.to_csv(staging / "shapes.csv", index=False, float_format="%.6g")
         merged.matches.to_csv(staging / "matches.csv", index=False, float_format="%.6g")
@@ -121,7 +123,8 @@ def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_m
             draw_modes(geometry, merged, staging, animate=animate, log=log)
         inputs = [path for s in setups for path in _setup_inputs(s)]
         settings = {"options": options.to_dict(),
-                    "merge": {"freq_rtol": freq_rtol, "mac_min": mac_min, "min_setups": min_setups,
+                    "merge": {"freq_rtol": freq_rtol, "mac_min": mac_min,
+                              "min_setups": required_setups(len(setups), min_setups),
                               "setups": [s.name for s in setups]},
                     "geometry": None if geometry is None else geometry.source,
                     "version": None, "provenance": provenance(inputs, command)}
@@ -132,13 +135,23 @@ def write_setups(setups, out, options=None, geometry=None, freq_rtol=0.01, mac_m
     return merged, results
 
 
+def log_merge(merged: MergedModes, log) -> None:
+    """Tell ``log`` which setups were left out of the merge and why, which
+    were left out of single modes, and which nodes are flagged."""
+    for row in merged.disagreements.itertuples():
+        log(f"setup {row.setup} left out of the merge ({row.check}): {row.evidence}")
+    bad = set(merged.disagreements["setup"])
+    for row in merged.matches[merged.matches["status"] == "left out"].itertuples():
+        if row.setup not in bad:
+            log(f"mode {row.mode}: setup {row.setup} left out: {row.reason}")
+    for row in merged.shapes[merged.shapes["flag"] != ""].itertuples():
+        log(f"mode {row.mode}: node {row.node} flagged: {row.flag}")
+
+
 def _setup_options(setup) -> dict:
     """The options a setup's channel table sets (as :func:`identify_setup` does)."""
     t = setup.channels
-    roles = t["role"].to_numpy()
-    refs = None if (roles == "reference").all() or not (roles == "reference").any() else \
-        [int(c) for c in t["channel"].to_numpy()[roles == "reference"]]
-    return {"channels": [int(c) for c in t["channel"]], "refs": refs, "quantities": list(t["quantity"])}
+    return {"channels": [int(c) for c in t["channel"]], "quantities": list(t["quantity"])}
 
 
 def _inputs(setups, geometry) -> list[Path]:

@@ -45,3 +45,185 @@ def test_out_over_an_input_of_the_setups_is_refused_before_any_work(two_setups, 
     assert code == 2, err
     assert says in " ".join(err.split())
     assert {p: p.read_bytes() for p in two_setups.rglob("*") if p.is_file()} == before
+
+
+# --- synthetic identifications: the merge on its own --------------------------------------------------------
+
+from types import SimpleNamespace  # noqa: E402
+
+import modal  # noqa: E402
+from modal.records import MeasuredRecord  # noqa: E402
+from modal.setups import Setup, merge_setups, normalise, required_setups  # noqa: E402
+
+FREQS = np.array([3.0, 7.0, 11.0])
+NODES = ["r1", "r2", *[f"n{k}" for k in range(10)]]
+POLE_COLUMNS = ["freq_hz", "damping", "stable", "physical"]
+
+
+def _truth(complex_modes=False, seed=1):
+    """Mode shapes at the 12 nodes (z), complex with ``complex_modes``."""
+    rng = np.random.default_rng(seed)
+    shapes = rng.uniform(0.3, 1.0, (len(NODES), len(FREQS))) * rng.choice([-1, 1], (len(NODES), len(FREQS)))
+    shapes[:2] = [[1.0, 0.8, -0.5], [0.4, -1.0, 0.9]]  # reference parts far from each other's swap
+    if complex_modes:
+        shapes = shapes * np.exp(1j * rng.uniform(-0.6, 0.6, shapes.shape))
+    return shapes.astype(complex)
+
+
+def _setups(n, truth, per_setup=2, seed=2, freq_std=0.004, shifts=None):
+    """``n`` setups: references r1, r2, then ``per_setup`` roving nodes
+    each; every mode's shape a different complex multiple of the truth,
+    frequencies off by ``shifts`` (relative, per setup), levels alike."""
+    rng = np.random.default_rng(seed)
+    setups, results = [], []
+    for s in range(n):
+        nodes = ["r1", "r2", *NODES[2 + (s * per_setup) % 10: 2 + (s * per_setup) % 10 + per_setup]]
+        rows = [NODES.index(node) for node in nodes]
+        scale = rng.uniform(0.5, 2, len(FREQS)) * np.exp(1j * rng.uniform(-np.pi, np.pi, len(FREQS)))
+        phi = truth[rows] * scale
+        phi /= np.linalg.norm(phi, axis=0)
+        shift = 0.0 if shifts is None else shifts[s]
+        freq = FREQS * (1 + shift + 1e-4 * rng.standard_normal(len(FREQS)))
+        modes = pd.DataFrame({"mode": range(1, len(FREQS) + 1), "freq_hz": freq, "freq_std_hz": freq_std * freq,
+                              "damping": 0.01})
+        table = pd.DataFrame({"channel": range(len(nodes)), "name": nodes, "node": nodes, "x": 0.0, "y": 0.0,
+                              "z": 1.0, "quantity": "acceleration", "unit": "m/s2",
+                              "role": ["reference"] * 2 + ["roving"] * (len(nodes) - 2)})
+        acc = rng.standard_normal((400, len(nodes))) * (1 + 0.2 * s)
+        setups.append(Setup(f"s{s + 1}", MeasuredRecord(acc, 0.01), table))
+        results.append(SimpleNamespace(modes=modes, complex_shapes=phi,
+                                       poles=pd.DataFrame(columns=POLE_COLUMNS), pole_shapes=np.empty((0, len(nodes)))))
+    return setups, results
+
+
+def _merged_shape(merged, mode):
+    rows = merged.shapes[merged.shapes["mode"] == mode].set_index("node")
+    return rows, (rows["z"] + 1j * rows["z_im"])
+
+
+def test_complex_modes_rescaled_with_a_complex_scale_per_setup_keep_their_phases():
+    """Complex modes, each setup's shapes a different complex multiple of the
+    truth: the merged shape is the truth times one complex number at every
+    node, phases included (a rescaling factor conjugated on the wrong side
+    turns each setup's roving part by a wrong angle)."""
+    truth = _truth(complex_modes=True)
+    setups, results = _setups(5, truth)
+    merged = merge_setups(setups, results)
+    assert len(merged.modes) == 3 and (merged.modes["n_setups"] == 5).all()
+    for k in range(3):
+        rows, shape = _merged_shape(merged, k + 1)
+        exact = truth[[NODES.index(n) for n in rows.index], k]
+        ratio = shape.to_numpy() / exact
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+        assert np.nanmax(np.abs(shape)) == pytest.approx(1.0)
+    assert (merged.matches["ref_mac"] > 0.999999).all() and (merged.matches["status"] == "merged").all()
+
+
+def test_the_majority_rule_rounds_up_and_needs_both_of_two():
+    assert [required_setups(n) for n in (1, 2, 3, 4, 5)] == [1, 2, 2, 3, 3]
+    assert required_setups(5, 1) == 1
+    truth = _truth()
+    for n, kept, dropped in [(2, 2, 1), (3, 2, 1), (5, 3, 2)]:
+        for present, expected in [(kept, 1), (dropped, 0)]:
+            setups, results = _setups(n, truth)
+            for r in results[present:]:  # the 7 Hz mode only in the first `present` setups
+                r.modes = r.modes.drop(index=1).reset_index(drop=True)
+                r.complex_shapes = r.complex_shapes[:, [0, 2]]
+            merged = merge_setups(setups, results)
+            assert int((merged.modes["freq_hz"].round() == 7).sum()) == expected, (n, present)
+    setups, results = _setups(2, truth)
+    results[1].modes = results[1].modes.drop(index=1).reset_index(drop=True)
+    results[1].complex_shapes = results[1].complex_shapes[:, [0, 2]]
+    assert 7 in merge_setups(setups, results, min_setups=1).modes["freq_hz"].round().tolist()
+
+
+def test_a_mode_joins_the_nearest_cluster_within_its_own_scatter():
+    """Setup 1 has two modes 1.4 % apart (6.9, 7.0 Hz, same reference
+    part); setup 2's 7.03 Hz is admissible for both (uncertainty 1 %) and
+    joins the nearer, 7.0. Two setups 1.2 % apart with 0.5 % uncertainty are
+    one mode (a fixed 1 % lost it), 2.5 % apart with 0.05 % they are not."""
+    truth = _truth()
+    setups, results = _setups(2, truth, freq_std=0.01)
+    extra = results[0]
+    extra.modes = pd.concat([extra.modes, extra.modes.iloc[[1]].assign(mode=4, freq_hz=6.9)], ignore_index=True)
+    extra.complex_shapes = extra.complex_shapes[:, [0, 1, 2, 1]]
+    results[1].modes.loc[1, "freq_hz"] = 7.03
+    merged = merge_setups(setups, results, min_setups=1)
+    joined = merged.matches[(merged.matches["setup"] == "s2") & (merged.matches["freq_hz"] == 7.03)]["mode"]
+    partner = merged.matches[(merged.matches["mode"] == joined.iloc[0]) & (merged.matches["setup"] == "s1")]
+    assert list(partner["setup_mode"]) == [2]  # 7.0 Hz, not 6.9 Hz
+    for shift, std, expected in [(0.012, 0.005, 3), (0.025, 0.0005, 0)]:
+        setups, results = _setups(2, truth, freq_std=std, shifts=[0.0, shift])
+        assert len(merge_setups(setups, results).modes) == expected
+
+
+def _spoil(setups, results, s, how):
+    setup, result = setups[s], results[s]
+    acc = setup.record.acc.copy()
+    if how == "unit slip":
+        acc[:, :2] *= 1e-6
+        result.complex_shapes = result.complex_shapes.copy()
+        result.complex_shapes[:2] *= 1e-6
+    elif how == "swapped references":
+        acc[:, [0, 1]] = acc[:, [1, 0]]
+        result.complex_shapes = result.complex_shapes[[1, 0, *range(2, len(acc[0]))]]
+    elif how == "wrong rate":
+        result.modes = result.modes.assign(freq_hz=result.modes["freq_hz"] * 0.5)
+    elif how == "one reference in g":
+        acc[:, 1] *= 9.80665
+        result.complex_shapes = result.complex_shapes.copy()
+        result.complex_shapes[1] *= 9.80665
+    setups[s] = Setup(setup.name, MeasuredRecord(acc, setup.record.dt), setup.channels)
+
+
+@pytest.mark.parametrize("how, check", [("unit slip", "reference levels"), ("swapped references", "reference shapes"),
+                                        ("wrong rate", "rate"), ("one reference in g", "reference ratio")])
+def test_a_bad_setup_is_named_and_left_out(how, check):
+    """Three setups and five, one spoilt: it alone is named, with the
+    check it fails, left out of every mode (in matches.csv with the
+    reason), and the merged shapes are those of the good setups; with two
+    setups nothing is merged and both are named (which one is wrong cannot
+    be told)."""
+    truth = _truth()
+    for n in (3, 5):
+        setups, results = _setups(n, truth)
+        _spoil(setups, results, 1, how)
+        merged = merge_setups(setups, results)
+        assert set(merged.disagreements["setup"]) == {"s2"}, merged.disagreements
+        assert check in set(merged.disagreements["check"])
+        assert len(merged.modes) == 3 and (merged.modes["n_setups"] == n - 1).all()
+        assert (merged.modes["left_out"] == "s2").all()
+        out = merged.matches[merged.matches["setup"] == "s2"]
+        assert (out["status"] == "left out").all() and len(out) == 3 and out["reason"].str.len().min() > 20
+        for k in range(3):
+            rows, shape = _merged_shape(merged, k + 1)
+            exact = truth[[NODES.index(node) for node in rows.index], k]
+            assert modal.mac(shape.to_numpy()[:, None], exact[:, None])[0, 0] > 0.9999
+    setups, results = _setups(2, truth)
+    _spoil(setups, results, 1, how)
+    merged = merge_setups(setups, results)
+    assert len(merged.modes) == 0 and set(merged.disagreements["setup"]) == {"s1", "s2"}
+
+
+def test_one_mode_of_a_setup_that_disagrees_is_left_out_of_that_mode_only():
+    truth = _truth()
+    setups, results = _setups(4, truth)
+    results[2].complex_shapes = results[2].complex_shapes.copy()
+    results[2].complex_shapes[:2, 1] = results[2].complex_shapes[[1, 0], 1]  # its 7 Hz reference part swapped
+    merged = merge_setups(setups, results)
+    assert merged.disagreements.empty and list(merged.modes["n_setups"]) == [4, 3, 4]
+    row = merged.matches[(merged.matches["setup"] == "s3") & (merged.matches["mode"] == 2)]
+    assert list(row["status"]) == ["left out"] and "residual" in row["reason"].iloc[0]
+
+
+def test_normalisation_is_not_set_by_a_node_that_disagrees_with_its_neighbours():
+    per_node = {"a": np.array([np.nan, np.nan, 1.0 + 0j]), "b": np.array([np.nan, np.nan, 0.9 + 0j]),
+                "c": np.array([np.nan, np.nan, -2.0 + 0j]), "d": np.array([np.nan, np.nan, 0.5j])}
+    neighbours = {"a": {"b", "c"}, "b": {"a", "c"}, "c": {"a", "b", "d"}, "d": {"c"}}
+    pivot, flags = normalise(per_node, neighbours)
+    assert pivot == 1.0 and list(flags) == ["c"] and "2 x" in flags["c"]
+    pivot, flags = normalise(per_node)  # without a geometry: compared with every other node
+    assert pivot == 1.0 and list(flags) == ["c"]
+    per_node["c"] = np.array([np.nan, np.nan, -1.4 + 0j])  # within 1.5 x: it sets the scale
+    pivot, flags = normalise(per_node, neighbours)
+    assert pivot == -1.4 and flags == {}

@@ -349,10 +349,11 @@ def test_two_close_modes_of_one_setup_stay_two():
     from modal.setups._merge import _match
 
     r = np.array([1.0, 1.0 + 0j])
-    clusters = _match([(0, 0, 10.0, r), (0, 1, 10.05, r), (1, 0, 10.02, r)], freq_rtol=0.01, mac_min=0.8)
-    assert sorted(sorted((s, k) for s, k, _, _ in c) for c in clusters) == [[(0, 0), (1, 0)], [(0, 1)]]
+    clusters = _match([(0, 0, 10.0, r, 0.005), (0, 1, 10.05, r, 0.005), (1, 0, 10.02, r, 0.005)], freq_rtol=0.01,
+                      mac_min=0.8)
+    assert sorted(sorted((s, k) for s, k, *_ in c) for c in clusters) == [[(0, 0), (1, 0)], [(0, 1)]]
     different = np.array([1.0, -1.0 + 0j])  # orthogonal reference part: not the same mode
-    clusters = _match([(0, 0, 10.0, r), (1, 0, 10.01, different)], freq_rtol=0.01, mac_min=0.8)
+    clusters = _match([(0, 0, 10.0, r, 0.005), (1, 0, 10.01, different, 0.005)], freq_rtol=0.01, mac_min=0.8)
     assert len(clusters) == 2
 
 
