@@ -179,7 +179,7 @@ def parser() -> argparse.ArgumentParser:
     cmd.add_argument("--geometry", type=Path, help="folder of the structure's geometry (nodes.csv; pyOMA's grid.txt; "
                      "pyOMA2's pts_coord.txt or sens_coord.txt): the shapes drawn on it, mode_<k>.png and .gif")
     cmd.add_argument("--min-setups", type=_positive(int), help="setups a merged mode must be selected in "
-                     "(default half of them)")
+                     "(default more than half of them: both of two)")
     cmd.add_argument("--no-animation", action="store_true", help="with --geometry: no mode_<k>.gif")
     cmd.add_argument("--quiet", action="store_true", help="no progress messages")
     run = commands.add_parser(
@@ -350,7 +350,8 @@ def identify_setups(args, options) -> int:
         f"{args.out / 'report.html'}")
     modes = merged.modes
     print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
-          f"{args.min_setups or -(-len(setups) // 2)} setups); shapes at {merged.shapes['node'].nunique()} nodes "
+          f"{modal.setups.required_setups(len(setups), args.min_setups)} setups); shapes at "
+          f"{merged.shapes['node'].nunique()} nodes "
           f"in {args.out / 'shapes.csv'}")
     if len(modes):
         print("damping and damping_spread: ratio to critical (fraction, not %); spreads over the setups")
@@ -358,7 +359,9 @@ def identify_setups(args, options) -> int:
                      "ref_mac", "mpc", "n_nodes"]].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
     found = ", ".join(f"{s.name} {len(r.modes)}" for s, r in zip(setups, results))
-    return fail(EXIT_NO_MODES, f"no mode selected in enough setups (modes per setup: {found})")
+    bad = "".join(f"; setup {row.setup} left out ({row.check}): {row.evidence}"
+                  for row in merged.disagreements.itertuples())
+    return fail(EXIT_NO_MODES, f"no mode selected in enough setups (modes per setup: {found}){bad}")
 
 
 @contextmanager
