@@ -151,3 +151,12 @@ def test_cera_refuses_bad_choices(kwargs, match):
     rec, _, dt = beam_record("thesis", 50)
     with pytest.raises(ValueError, match=match):
         modal.cera(rec.acceleration, dt, 3, cols=40, **kwargs)
+
+
+def test_cera_as_printed_flags_a_complex_pair():
+    # Eq. (52)'s matrix is not symmetric: here (dt = T_1 / 60, the sixth mode folded onto the fifth) two of its
+    # eigenvalues form a complex pair, which no frequency of Eq. (30) matches: flagged as a real pole is.
+    rec, _, dt = beam_record("irregular", 6 * 142 + 1)
+    res = flagged(modal.cera, rec.displacement[::6], 6 * dt, 6, cols=142, eigenproblem="as_printed")
+    assert res.real_pole.sum() == 2 and res.eigenvalues[res.real_pole][0] == res.eigenvalues[res.real_pole][1]
+    assert not flagged(modal.cera, rec.displacement[::6], 6 * dt, 6, cols=142).real_pole[-2:].all()
