@@ -67,6 +67,8 @@ BAD_SCHEMA = [
     ("studies.demo.methods.era.colums", 100, "colums"),
     ("measured.palisaden.excitation", "forced", "forced"),
     ("measured.palisaden.max_order", 61, "61"),
+    ("studies.cera.methods.cera.eigenproblem", "literal", "literal"),
+    ("interpretations.guideline.studies.cera.beam.length", 7.0, "length"),
 ]
 BAD_CHECK = [
     ("studies.demo.methods.era.cols", 4000, "studies.demo.methods.era: rows + cols"),
@@ -76,6 +78,13 @@ BAD_CHECK = [
     ("studies.demo.beam", "beam7", "studies.demo.beam = 'beam7'"),
     ("tables.3.case", "c9", "tables.3.case = 'c9'"),
     ("beams.beam5.sensors", [1, 2, 3, 4, 5, 7], "beams.beam5.sensors[5] = 7 must be < stations = 7"),
+    ("interpretations.guideline.studies.cera.methods.cera.cols", 950,
+     "studies.cera as interpretations.guideline reads it.methods.cera: rows + cols = 951"),
+    ("interpretations.guideline.studies.demo", {"cols_sweep": []},
+     "interpretations.guideline.studies.demo: not a study that lists 'guideline'"),
+    ("studies.cera.methods.era.eigenproblem", "as_printed", "singular_values and eigenproblem are CERA settings"),
+    ("studies.cera.methods.cera.singular_values", 7, "studies.cera.methods.cera.singular_values = 7"),
+    ("beams.beam10.period_mode", 7, "beams.beam10.period_mode = 7 exceeds its n_modes = 6"),
 ]
 
 
