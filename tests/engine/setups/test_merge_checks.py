@@ -227,3 +227,31 @@ def test_normalisation_is_not_set_by_a_node_that_disagrees_with_its_neighbours()
     per_node["c"] = np.array([np.nan, np.nan, -1.4 + 0j])  # within 1.5 x: it sets the scale
     pivot, flags = normalise(per_node, neighbours)
     assert pivot == -1.4 and flags == {}
+
+
+def test_declared_velocity_and_displacement_channels_reach_the_identification():
+    """One node measured in acceleration, velocity (mm/s) and displacement:
+    a setup is identified with each channel's quantity, so the three give
+    one shape value at the 5 Hz mode (without them the velocity would read
+    1/omega = 0.03 and the displacement 1/omega^2 = 0.001 of it)."""
+    from modal.setups import identify_setup
+    from modal.structures import ambient_response
+
+    fs, n = 50.0, 3000
+    shapes = np.array([[1.0, 0.6], [0.5, -1.0]])
+    acc = ambient_response(2 * np.pi * np.array([5.0, 12.0]), 0.02, shapes, shapes, n, 1 / fs, seed=3)
+    spectrum = np.fft.rfft(acc[:, 0])
+    spectrum[0] = 0
+    omega = 2 * np.pi * np.fft.rfftfreq(n, 1 / fs)
+    omega[0] = 1.0
+    velocity = np.fft.irfft(spectrum / (1j * omega), n)
+    displacement = np.fft.irfft(spectrum / (1j * omega) ** 2, n)
+    table = pd.DataFrame({"channel": range(4), "name": ["a", "v", "d", "b"], "node": ["1", "1", "1", "2"], "x": 0.0,
+                          "y": 0.0, "z": 1.0, "quantity": ["acceleration", "velocity", "displacement", "acceleration"],
+                          "unit": ["m/s2", "mm/s", "m", "m/s2"], "role": "roving"})
+    record = MeasuredRecord(np.column_stack([acc[:, 0], 1000 * velocity, displacement, acc[:, 1]]), 1 / fs)
+    result, _ = identify_setup(Setup("s", record, table), "ambient", fmax=20, max_order=20)
+    k = int(np.argmin(np.abs(result.modes["freq_hz"] - 5.0)))
+    phi = result.complex_shapes[:, k]
+    assert abs(phi[1] / phi[0]) == pytest.approx(1.0, rel=0.1)
+    assert 0.5 < abs(phi[2] / phi[0]) < 2.0
