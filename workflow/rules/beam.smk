@@ -81,7 +81,9 @@ rule table:
             for n in table_numbers()
         },
         beams={
-            study_of_table(n): config["beams"][config["studies"][study_of_table(n)]["beam"]]
+            study_of_table(n): config["beams"][
+                config["studies"][study_of_table(n)]["beam"]
+            ]
             for n in table_numbers()
         },
         interpretations=config["interpretations"],
