@@ -326,3 +326,61 @@ def test_single_channel_is_judged_in_each_channels_own_quantity():
     result = modal.stabilisation(y, dt, 8, 40, quantities=["displacement", "acceleration"])
     assert result.modes["freq_hz"].tolist() == pytest.approx([3.0], rel=1e-4)
     assert result.modes["flag"].tolist() == [""]
+
+
+def spread_out(values_a, shapes_a=A, criteria=None, min_poles=8):
+    """One mode whose poles (one per order) are joined across orders, with
+    cluster_distance small so that its floors (0.005 in damping) do not
+    decide, beside a second mode at 5 Hz of 1 % damping and shape B."""
+    criteria = criteria or modal.StabilityCriteria(cluster_distance=0.005, merge_distance=0.5)
+    table, shapes = poles([(2.0, values_a, shapes_a, ORDERS), (5.0, 0.01, B, ORDERS)])
+    labels, modes, _, _, _ = _select_modes(table, shapes, criteria, min_poles)
+    return labels[:20], modes
+
+
+def test_a_heavily_damped_modes_own_scatter_sets_its_tolerance():
+    """Damping spread evenly over 5-11 % and one pole elsewhere (median 8.3 %,
+    median absolute deviation 1.7 points: 3 robust standard deviations are
+    7.7 points, far above the floor of 0.5):
+    a pole at 14 % stays, one at 17 % leaves; each mode is judged against
+    its own poles (the 1 % mode beside it does not widen or narrow this)."""
+    damping = np.linspace(0.05, 0.11, 20)
+    for outlier, kept in ((0.14, True), (0.17, False)):
+        values = damping.copy()
+        values[7] = outlier
+        centre = np.median(values)
+        tolerance = 3 * 1.4826 * np.median(np.abs(values - centre))
+        assert (abs(outlier - centre) <= tolerance) == kept
+        labels, modes = spread_out(values)
+        assert (labels[7] == 1) == kept and modes["n_poles"].tolist() == [19 + kept, 20]
+
+
+def test_damping_exactly_at_the_floor_stays():
+    """19 poles at 2 %, one at 4 %, cluster_distance 0.02: the 4 % pole lies
+    exactly at the floor and stays (at most, not below)."""
+    values = np.full(20, 0.02)
+    values[3] = 0.04
+    criteria = modal.StabilityCriteria(cluster_distance=0.02, merge_distance=0.5)
+    labels, modes = spread_out(values, criteria=criteria)
+    assert modes["n_poles"].tolist() == [20, 20]
+
+
+def test_a_modes_own_shape_scatter_sets_its_tolerance():
+    """Shapes scattering about the mode's (1 - MAC with the medoid of order
+    1e-3), mac_min 0.9999 so the floor (1e-4) does not decide: a pole 2.5e-3
+    from the medoid stays, one 0.05 away leaves. One channel, mac_min 1:
+    every 1 - MAC is 0, at the tolerance 0, and every pole stays."""
+    rng = np.random.default_rng(8)
+    directions = rng.standard_normal((20, 3))
+    directions -= (directions @ A)[:, None] * A / (A @ A)
+    directions /= np.linalg.norm(directions, axis=1)[:, None]
+    tilt = np.abs(rng.normal(0.03, 0.015, 20))
+    criteria = modal.StabilityCriteria(cluster_distance=0.005, merge_distance=0.5, mac_min=0.9999)
+    for far, kept in ((0.05, True), (0.25, False)):
+        tilt[7] = far
+        shapes = A / np.linalg.norm(A) + tilt[:, None] * directions
+        labels, modes = spread_out(0.01, shapes, criteria)
+        assert (labels[7] == 1) == kept, far
+    table, shapes = poles([(2.0, 0.01, np.ones(1), ORDERS)], n_channels=1)
+    _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(mac_min=1.0), 8)
+    assert modes["n_poles"].tolist() == [20]
