@@ -284,14 +284,14 @@ def normalise(per_node: dict, neighbours=None) -> tuple[complex, dict]:
     their components) down; a node that moves more than NODE_FACTOR times
     as much as every node linked to it (``neighbours``: node -> nodes, from
     the geometry's lines and links; without them, every other node) is
-    flagged, and the first node that is not sets the scale: the shape is
-    divided by its largest component, which becomes 1 (real). One node that
+    flagged, down to the first node that is not; the shape is divided by
+    the largest component of the nodes not flagged, which becomes 1 (real). One node that
     disagrees with its neighbours (a miscalibrated or mislabelled channel)
     then does not set the scale of all the others, and says so.
     """
     moduli = {node: float(np.sqrt(np.nansum(np.abs(u) ** 2))) for node, u in per_node.items()
               if np.isfinite(u).any()}
-    flags, chosen = {}, None
+    flags = {}
     for node in sorted(moduli, key=moduli.get, reverse=True):
         if neighbours is None:
             near = [m for other, m in moduli.items() if other != node]
@@ -301,9 +301,8 @@ def normalise(per_node: dict, neighbours=None) -> tuple[complex, dict]:
             flags[node] = (f"moves {moduli[node] / max(near):.2g} x as much as any "
                            f"{'node linked to it' if neighbours is not None else 'other node'}: not used to normalise")
             continue
-        chosen = node
         break
-    values = [c for c in per_node.get(chosen, ()) if np.isfinite(c)]
+    values = [c for node, u in per_node.items() if node not in flags for c in u if np.isfinite(c)]
     pivot = max(values, key=abs) if values else 1.0
     return (pivot if abs(pivot) > 0 else 1.0), flags
 
