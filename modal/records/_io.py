@@ -32,6 +32,10 @@ from ..identification import ModalWarning
 #: Relative tolerance on the uniformity of a CSV time column and on the
 #: agreement of sampling rates given twice.
 DT_RTOL = 1e-6
+#: How a record without a sampling rate gets one, in the API and on the command line.
+GIVE_FS = "give the sampling rate: fs=<Hz> (on the command line --fs <Hz>)"
+#: The start of a UFF data set of type 58 (58b: binary): a line ``-1``, then its type.
+_UFF58_START = re.compile(rb"(?m)^ *-1\r?\n *58b?\b")
 
 #: Sampling rates that differ by more than this (relative) draw a warning
 #: when ``fs`` overrides a text file's time column.
@@ -99,7 +103,7 @@ def _resolve_dt(dt_file, fs, path) -> float:
     """Combine a sampling interval stored in the file with an ``fs`` argument."""
     dt_arg = None if fs is None else 1.0 / positive_float("fs", fs)
     if dt_file is None and dt_arg is None:
-        raise ValueError(f"{path}: no sampling rate in the file; pass fs (Hz)")
+        raise ValueError(f"{path}: no sampling rate in the file; {GIVE_FS}")
     if dt_file is not None and dt_arg is not None and abs(dt_file - dt_arg) > DT_RTOL * dt_arg:
         raise ValueError(f"{path}: fs = {fs} Hz contradicts the file's dt = {dt_file} s")
     return dt_file if dt_file is not None else dt_arg
@@ -183,7 +187,7 @@ _DELIMITERS = (",", ";", "\t", "|")
 
 
 def _sniff_delimiter(lines, decimal):
-    """The delimiter on every sampled line, most often at least once per line; else whitespace (also
+    """The delimiter on most sampled lines, most often at least once per line; else whitespace (also
     when tabs and spaces both separate the numbers of a line)."""
     sample = [line for line in lines if line.strip()][-20:]
     best, count = None, 0
@@ -193,9 +197,11 @@ def _sniff_delimiter(lines, decimal):
         if candidate == "\t" and any(" " in cell.strip() or not cell.strip()
                                       for line in sample for cell in line.strip().split("\t")):
             continue  # tabs among spaces, or runs of them (an .asc export's columns): whitespace separates
-        fewest = min(line.count(candidate) for line in sample)
-        if fewest > count:
-            best, count = candidate, fewest
+        # the count of most lines (the median): a row cut short does not hide the delimiter,
+        # it is named by the ragged-row check
+        typical = sorted(line.count(candidate) for line in sample)[len(sample) // 2]
+        if typical > count:
+            best, count = candidate, typical
     return best
 
 
@@ -321,6 +327,11 @@ def _load_lvm(path: Path, fs):
         raise ValueError(f"{path}: {lvm['Segments']} segments; only single-segment LabVIEW files are supported")
     segment = lvm[0]
     data = np.asarray(segment["data"], dtype=float)
+    # the header's samples per channel (NaN for the comment column): more than the rows read means cut short
+    declared = pd.to_numeric(pd.Series(np.atleast_1d(segment.get("Samples", [])), dtype=object), errors="coerce")
+    if declared.max() > len(data):
+        raise ValueError(f"{path}: the header says {int(declared.max())} samples, the file holds {len(data)} "
+                         "rows: is the file cut short?")
     names = list(segment.get("Channel names", []))[: data.shape[1]]
     is_time = np.array([name == "X_Value" for name in names] + [False] * (data.shape[1] - len(names)))
     if is_time.all():
@@ -337,7 +348,7 @@ def _load_lvm(path: Path, fs):
     else:
         deltas = np.asarray(segment.get("Delta_X", [np.nan]), dtype=float)
         if not np.isfinite(deltas[0]) or deltas[0] <= 0:
-            raise ValueError(f"{path}: no time column and no Delta_X; pass fs (Hz)")
+            raise ValueError(f"{path}: no time column and no Delta_X; {GIVE_FS}")
         dt = float(deltas[0])
     units = list(segment.get("Y_Unit_Label", []))[: acc.shape[1]]
     units += [None] * (acc.shape[1] - len(units))
@@ -349,12 +360,21 @@ def _load_lvm(path: Path, fs):
 def _load_uff(path: Path, fs):
     import pyuff
 
-    sets = pyuff.UFF(str(path)).read_sets()
+    try:
+        sets = pyuff.UFF(str(path)).read_sets()
+    except Exception as exc:  # pyuff raises a bare Exception on a malformed set
+        raise ValueError(f"{path}: not a readable UFF file ({type(exc).__name__}: {exc})") from None
     if isinstance(sets, dict):
         sets = [sets]
     sets = [s for s in sets if s.get("type") == 58]
     if not sets:
         raise ValueError(f"{path}: no UFF data set of type 58")
+    # pyuff skips a last set without its end: a file cut short reads as fewer channels
+    with open(path, "rb") as fh:
+        begun = len(_UFF58_START.findall(fh.read()))
+    if begun > len(sets):
+        raise ValueError(f"{path}: {begun} data sets of type 58 begin but only {len(sets)} are complete: "
+                         "is the file cut short?")
     lengths = {len(s["data"]) for s in sets}
     if len(lengths) != 1:
         raise ValueError(f"{path}: type-58 sets of unequal length {sorted(lengths)}")
@@ -452,6 +472,10 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
     """
     path = Path(path)
     ext = path.suffix.lower()
+    if path.is_dir():
+        raise ValueError(f"path: {path} is a folder, not a record file (a roving test's setup is a folder with a "
+                         "channels.csv or pyOMA's channel_dofs.txt beside its record; the setups of a folder are "
+                         f"given one by one, e.g. {path / '*'})")
     if ext not in _LOADERS:
         raise ValueError(f"path: {path}: unknown record format {ext!r}; expected one of {sorted(_LOADERS)}")
     if not path.exists():

@@ -172,7 +172,7 @@ def test_text_errors_name_file_row_and_column(tmp_path):
 def test_npy_needs_fs_and_refuses_channels_first(tmp_path, acc):
     path = tmp_path / "rec.npy"
     np.save(path, acc.astype(np.float32))
-    with pytest.raises(ValueError, match=r"rec.npy: no sampling rate.*pass fs"):
+    with pytest.raises(ValueError, match=r"rec.npy: no sampling rate.*fs=<Hz>"):
         load_record(path)
     got, dt = load_record(path, fs=200)
     np.testing.assert_allclose(got, acc, rtol=1e-6)
