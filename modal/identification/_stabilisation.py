@@ -671,7 +671,7 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     })
     rms, relative = (np.ones(l), np.zeros(l, dtype=int)) if channels is None else channels
     visible = np.abs(mode_shapes) * (2 * np.pi * modes["freq_hz"].to_numpy()) ** relative[:, None] / rms[:, None]
-    modes["flag"] = _flags(modes, visible, criteria)
+    modes["flag"] = _flags(modes, visible, criteria, mac(mode_shapes, mode_shapes))
     return labels, modes, mode_shapes, candidates, above
 
 
@@ -731,10 +731,17 @@ def _second_estimates(modes, count, freq, damping, clusters, member, macs, shape
     return second_of
 
 
-def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria) -> list[str]:
+def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=None) -> list[str]:
     """Why each mode is doubtful (reasons joined by ``"; "``, empty when
     trusted); ``visible`` (channels x modes): each shape entry's magnitude
-    against its channel's level.
+    against its channel's level; ``mode_mac``: the MAC between the modes'
+    shapes (default: none alike).
+
+    - ``same shape as 4.224 Hz (MAC 0.999)``: another mode within
+      ``criteria.close_rtol`` in frequency has more poles (or as many and a
+      lower frequency) and a shape of MAC at least ``criteria.mac_min`` with
+      this one's: a shadow of that mode, not a mode of its own (the
+      stronger of the two keeps no flag for it);
 
     - ``low MPC 0.41``: MPC below ``criteria.doubtful_mpc``;
     - ``low MAMC 0.89``: MAMC below ``criteria.doubtful_mamc``;
@@ -749,11 +756,19 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
     clean = damping[mpc >= criteria.doubtful_mpc]
     reference = np.median(clean if len(clean) >= 2 else damping)
     mamc = modes["mamc"].to_numpy()
+    freq, n_poles = modes["freq_hz"].to_numpy(), modes["n_poles"].to_numpy()
+    mode_mac = np.eye(len(modes)) if mode_mac is None else mode_mac
     energy = visible**2
     share = energy.max(axis=0) / energy.sum(axis=0)
     flags = []
     for k in range(len(modes)):
         reasons = []
+        stronger = [j for j in range(len(modes)) if j != k and mode_mac[j, k] >= criteria.mac_min
+                    and abs(freq[j] - freq[k]) < criteria.close_rtol * max(freq[j], freq[k])
+                    and (n_poles[j], -j) > (n_poles[k], -k)]
+        if stronger:
+            j = max(stronger, key=lambda j: (n_poles[j], -j))
+            reasons.append(f"same shape as {freq[j]:.4g} Hz (MAC {mode_mac[j, k]:.3f})")
         if mpc[k] < criteria.doubtful_mpc:
             reasons.append(f"low MPC {mpc[k]:.2f}")
         if mamc[k] < criteria.doubtful_mamc:

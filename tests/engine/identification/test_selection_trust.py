@@ -149,7 +149,7 @@ def mode_table(mpc, mamc, damping):
     import pandas as pd
 
     return pd.DataFrame({"mode": np.arange(1, n + 1), "freq_hz": np.arange(1.0, n + 1), "mpc": mpc, "mamc": mamc,
-                         "damping": damping})
+                         "damping": damping, "n_poles": np.full(n, 10)})
 
 
 def test_flags_name_each_reason_at_its_threshold():
@@ -384,3 +384,27 @@ def test_a_modes_own_shape_scatter_sets_its_tolerance():
     table, shapes = poles([(2.0, 0.01, np.ones(1), ORDERS)], n_channels=1)
     _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(mac_min=1.0), 8)
     assert modes["n_poles"].tolist() == [20]
+
+
+def test_a_weaker_mode_of_the_same_shape_close_by_is_a_shadow():
+    """Modes at 4.20 Hz (19 poles) and 4.26 Hz (12 poles), 1.4 % apart, MAC
+    0.998: the weaker is flagged 'same shape as 4.2 Hz (MAC 0.998)', the
+    stronger not. MAC 0.97 (below mac_min), 2.5 % apart (beyond
+    close_rtol) or as many poles and the higher frequency: the rule as
+    stated, each side of each bound."""
+    criteria = modal.StabilityCriteria()
+    base = mode_table([1.0, 1.0], [1.0, 1.0], [0.015, 0.015])
+    base["freq_hz"], base["n_poles"] = [4.2, 4.26], [19, 12]
+    alike = np.array([[1.0, 0.998], [0.998, 1.0]])
+    assert _flags(base, np.ones((3, 2)), criteria, alike) == ["", "same shape as 4.2 Hz (MAC 0.998)"]
+    assert _flags(base, np.ones((3, 2)), criteria, np.array([[1.0, 0.98], [0.98, 1.0]]))[1].startswith("same")
+    assert _flags(base, np.ones((3, 2)), criteria, np.array([[1.0, 0.97], [0.97, 1.0]])) == ["", ""]
+    assert _flags(base, np.ones((3, 2)), criteria) == ["", ""]
+    far = base.assign(freq_hz=[4.2, 4.2 * 1.0205])
+    assert _flags(far, np.ones((3, 2)), criteria, alike) == ["", ""]
+    near = base.assign(freq_hz=[4.2, 4.2 * 1.0195])
+    assert _flags(near, np.ones((3, 2)), criteria, alike)[1].startswith("same shape as 4.2 Hz")
+    tie = base.assign(n_poles=[12, 12])
+    assert _flags(tie, np.ones((3, 2)), criteria, alike) == ["", "same shape as 4.2 Hz (MAC 0.998)"]
+    stronger_above = base.assign(n_poles=[12, 19])
+    assert _flags(stronger_above, np.ones((3, 2)), criteria, alike) == ["same shape as 4.26 Hz (MAC 0.998)", ""]
