@@ -421,6 +421,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("modal identify: interrupted", file=sys.stderr)
         return 130
+    except MemoryError as exc:  # reading a record whose header promises more than the memory holds, ...
+        print(f"modal {args.command}: not enough memory{': ' + str(exc) if str(exc) else ''}", file=sys.stderr)
+        return EXIT_CANNOT_IDENTIFY
     except Exception as exc:  # the contract: a one-line message, never a traceback
         print(f"modal identify: internal error, please report: {type(exc).__name__}: {exc}", file=sys.stderr)
         return EXIT_INTERNAL

@@ -182,6 +182,27 @@ def test_complete_results_replace_the_previous_ones(tmp_path, capsys):
     _no_partial_files(tmp_path)
 
 
+def _address_space(limit):
+    def set_limit():
+        resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+    return set_limit
+
+
+def test_record_larger_than_the_memory_exits_4_not_internal_error(tmp_path):
+    """A .npy header that promises 10 GiB under a 3 GiB address space:
+    "not enough memory", exit 4 (the contract), no traceback, no --out."""
+    path = tmp_path / "huge.npy"
+    with open(path, "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False,
+                                                  "shape": (1_342_177_280, 1)})
+        fh.write(bytes(80))
+    run = _cli("identify", path, "--fs", 100, "--ambient", "--out", tmp_path / "out",
+               preexec_fn=_address_space(3 * 2**30))
+    assert run.returncode == EXIT_CANNOT_IDENTIFY, run.stderr
+    assert _one_line(run.stderr).startswith("modal identify: not enough memory")
+    assert "Traceback" not in run.stderr and not (tmp_path / "out").exists()
+
+
 # --- the record --------------------------------------------------------------------------------------------
 
 
