@@ -224,7 +224,7 @@ def test_normalisation_is_not_set_by_a_node_that_disagrees_with_its_neighbours()
     assert pivot == 1.0 and list(flags) == ["c"] and "2 x" in flags["c"]
     pivot, flags = normalise(per_node)  # without a geometry: compared with every other node
     assert pivot == 1.0 and list(flags) == ["c"]
-    per_node["c"] = np.array([np.nan, np.nan, -1.4 + 0j])  # within 1.5 x: it sets the scale
+    per_node["c"] = np.array([np.nan, np.nan, -1.4 + 0j])  # within 1.8 x: it sets the scale
     pivot, flags = normalise(per_node, neighbours)
     assert pivot == -1.4 and flags == {}
 
