@@ -10,9 +10,11 @@ from ._merge import (MergedModes, Setup, check_setups, identify_setup, merge_set
 from ._results import draw_modes, write_setups
 from ._simulated import plate_roving_test, save_geometry, save_setup
 
+# normalise and required_setups are helpers of the merge (the command line prints the majority),
+# importable from here; the names below are also re-exported by modal.
 __all__ = [
     "Geometry", "MergedModes", "Setup", "check_setups", "direction_from_angles", "draw_mode", "draw_modes",
     "identify_setup", "merge_setups", "mode_shape_animation", "mode_shape_figure", "modes_figure",
-    "node_motion", "node_shapes", "normalise", "plate_roving_test", "read_channel_table", "read_geometry",
-    "read_pyoma_setup", "read_setup", "required_setups", "save_geometry", "save_setup", "write_setups",
+    "node_motion", "node_shapes", "plate_roving_test", "read_channel_table", "read_geometry",
+    "read_pyoma_setup", "read_setup", "save_geometry", "save_setup", "write_setups",
 ]

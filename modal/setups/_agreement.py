@@ -170,7 +170,8 @@ def setup_disagreements(setups, results, keys, ref_rows) -> pd.DataFrame:
 
 
 def _evidence(check, values, count, others, names, setup, keys, own_levels, their_levels) -> str:
-    those = f"{count} of {others} other setup(s) ({names})"
+    those = f"{count} of {others} other setup(s) ({names}" + \
+        ("; with two setups, which one is wrong cannot be told)" if others == 1 else ")")
     if check == "rate":
         return (f"its frequencies are {np.median(values):.4g} x those of {those}: a wrong sampling rate "
                 "(setup_info.txt, --fs, the record's time column)?")

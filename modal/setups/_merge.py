@@ -498,7 +498,8 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
         for s, (k, f, value, reason) in sorted(left_out.items()):
             matches.append({"mode": number, "setup": setups[s].name, "setup_mode": 0 if k is None else k + 1,
                             "source": "" if k is None else "selected", "status": "left out", "reason": reason,
-                            "freq_hz": f, "damping": np.nan if k is None else float(results[s].modes["damping"].iloc[k]),
+                            "freq_hz": f,
+                            "damping": np.nan if k is None else float(results[s].modes["damping"].iloc[k]),
                             "ref_mac": value, "ref_share": np.nan, "scale": np.nan})
         if keys:
             mean_refs = np.mean(ref_values, axis=0)

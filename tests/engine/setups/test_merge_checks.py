@@ -7,12 +7,17 @@ identifications (no identification is run where none is needed)."""
 
 import shutil
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
 import pytest
 
+import modal
 from modal.cli import main as cli
+from modal.records import MeasuredRecord
+from modal.setups import Setup, identify_setup, merge_setups, normalise, required_setups
+from modal.structures import ambient_response
 
 DATA = Path(__file__).resolve().parents[2] / "data"
 PLATE_SETUPS = DATA / "roving_plate"
@@ -48,12 +53,6 @@ def test_out_over_an_input_of_the_setups_is_refused_before_any_work(two_setups, 
 
 
 # --- synthetic identifications: the merge on its own --------------------------------------------------------
-
-from types import SimpleNamespace  # noqa: E402
-
-import modal  # noqa: E402
-from modal.records import MeasuredRecord  # noqa: E402
-from modal.setups import Setup, merge_setups, normalise, required_setups  # noqa: E402
 
 FREQS = np.array([3.0, 7.0, 11.0])
 NODES = ["r1", "r2", *[f"n{k}" for k in range(10)]]
@@ -234,9 +233,6 @@ def test_declared_velocity_and_displacement_channels_reach_the_identification():
     a setup is identified with each channel's quantity, so the three give
     one shape value at the 5 Hz mode (without them the velocity would read
     1/omega = 0.03 and the displacement 1/omega^2 = 0.001 of it)."""
-    from modal.setups import identify_setup
-    from modal.structures import ambient_response
-
     fs, n = 50.0, 3000
     shapes = np.array([[1.0, 0.6], [0.5, -1.0]])
     acc = ambient_response(2 * np.pi * np.array([5.0, 12.0]), 0.02, shapes, shapes, n, 1 / fs, seed=3)
