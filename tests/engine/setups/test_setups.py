@@ -93,7 +93,7 @@ def test_units_and_directions_matter(plate_test):
 def test_merged_outputs_on_disk(plate_merged):
     merged, results, out, _ = plate_merged
     shapes = pd.read_csv(out / "shapes.csv")
-    assert list(shapes.columns) == ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im"]
+    assert list(shapes.columns) == ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"]
     assert len(shapes) == 5 * 20
     matches = pd.read_csv(out / "matches.csv")
     assert len(matches) == 5 * 6 and set(matches["source"]) == {"selected"}
