@@ -251,3 +251,29 @@ def test_declared_velocity_and_displacement_channels_reach_the_identification():
     phi = result.complex_shapes[:, k]
     assert abs(phi[1] / phi[0]) == pytest.approx(1.0, rel=0.1)
     assert 0.5 < abs(phi[2] / phi[0]) < 2.0
+
+
+def test_a_setup_with_a_unit_slip_is_named_by_the_command(tmp_path, capsys):
+    """Three setups of the plate, setup 3's references declared in mm/s2
+    (recorded in m/s2): modal identify names it in the log and matches.csv
+    and merges the modes of the other two; with setups 1 and 3 alone it
+    exits 5 naming both (which one is wrong cannot be told)."""
+    for name in ("setup_1", "setup_2", "setup_3"):
+        shutil.copytree(PLATE_SETUPS / name, tmp_path / name)
+    table = pd.read_csv(tmp_path / "setup_3" / "channels.csv")
+    table.loc[table["role"] == "reference", "unit"] = "mm/s2"
+    table.to_csv(tmp_path / "setup_3" / "channels.csv", index=False)
+    out = tmp_path / "out"
+    code = cli(["identify", *(str(tmp_path / f"setup_{k}") for k in (1, 2, 3)), "--ambient", "--fmax", "25",
+                "--out", str(out)])
+    err = " ".join(capsys.readouterr().err.split())
+    assert code == 0, err
+    assert "setup setup_3 left out of the merge (reference levels)" in err
+    modes, matches = pd.read_csv(out / "modes.csv"), pd.read_csv(out / "matches.csv")
+    assert len(modes) >= 5 and (modes["n_setups"] == 2).all() and (modes["left_out"] == "setup_3").all()
+    assert set(matches.loc[matches["status"] == "left out", "setup"]) == {"setup_3"}
+    code = cli(["identify", str(tmp_path / "setup_1"), str(tmp_path / "setup_3"), "--ambient", "--fmax", "25",
+                "--out", str(tmp_path / "two"), "--quiet"])
+    err = " ".join(capsys.readouterr().err.split())
+    assert code == 5 and "setup setup_1 left out" in err and "setup setup_3 left out" in err
+    assert "which one is wrong cannot be told" in err
