@@ -5,13 +5,15 @@ results of a record written to a folder."""
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 
 import numpy as np
 import pandas as pd
 
 from .._checks import positive_float, unit_scale
-from ..identification import Stabilisation, StabilityCriteria, stabilisation
+from ..identification import ModalWarning, Stabilisation, StabilityCriteria, stabilisation
+from ..records import clipping_warnings
 from ._options import IdentifyOptions, identify_options
 
 #: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
@@ -275,8 +277,12 @@ def identify_record(
     if options.channels is not None:
         acc = acc[:, channels]
     labels = channels if channel_labels is None else list(channel_labels)
+    if len(labels) != acc.shape[1]:
+        raise ValueError(f"channel_labels: {len(labels)} labels for {acc.shape[1]} channels used")
     y = detrend(acc)  # a copy of the record, the only one of its size
     _refuse_no_vibration(np.asarray(acc, dtype=float), y, labels)
+    for message in clipping_warnings(acc, 1 / dt, labels):
+        warnings.warn(message, ModalWarning, stacklevel=2)
     y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     n_channels = y.shape[1]
     min_rows = max(60, math.ceil(2 * max_order / n_channels))
@@ -497,16 +503,12 @@ class kept_warnings:
     when it ends, so that callers see them as before."""
 
     def __enter__(self):
-        import warnings
-
         self._context = warnings.catch_warnings(record=True)
         self.caught = self._context.__enter__()
         warnings.simplefilter("always")
         return self.caught
 
     def __exit__(self, *exc):
-        import warnings
-
         self._context.__exit__(*exc)
         for w in self.caught:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

@@ -1,6 +1,8 @@
 """Records: reading and writing measured records (NumPy, CSV and text,
-LabVIEW ``.lvm``, UFF data set 58)."""
+LabVIEW ``.lvm``, UFF data set 58), and what a record may hide (clipping)."""
 
 from ._io import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
+from ._quality import clipped_samples, clipping_warnings
 
-__all__ = ["MeasuredRecord", "load_record", "read_record", "save_record_npz", "write_uff58"]
+__all__ = ["MeasuredRecord", "clipped_samples", "clipping_warnings", "load_record", "read_record",
+           "save_record_npz", "write_uff58"]
