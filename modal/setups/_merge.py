@@ -469,8 +469,9 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
             if s in bad:
                 left_out[s] = (k, np.nan if k is None else freqs[s][k], value, bad[s])
             elif k is not None and value < mac_min:
-                left_out[s] = (k, freqs[s][k], value, f"its mode {k + 1} ({freqs[s][k]:.4g} Hz) has a reference "
-                                                      f"part of MAC {value:.2f} < {mac_min:g} with the others'")
+                left_out[s] = (k, freqs[s][k], value, f"its mode {int(results[s].modes['mode'].iloc[k])} "
+                                                      f"({freqs[s][k]:.4g} Hz) has a reference part of MAC "
+                                                      f"{value:.2f} < {mac_min:g} with the others'")
             else:
                 found = _from_diagram(results[s], ref_rows[s], freq, consensus, freq_rtol or tolerance(spread, 0.0),
                                       mac_min)
@@ -496,7 +497,8 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
                             "ref_share": float(np.linalg.norm(r) / np.linalg.norm(phi)) if keys else np.nan,
                             "scale": float(abs(scale))})
         for s, (k, f, value, reason) in sorted(left_out.items()):
-            matches.append({"mode": number, "setup": setups[s].name, "setup_mode": 0 if k is None else k + 1,
+            matches.append({"mode": number, "setup": setups[s].name,
+                            "setup_mode": 0 if k is None else int(results[s].modes["mode"].iloc[k]),
                             "source": "" if k is None else "selected", "status": "left out", "reason": reason,
                             "freq_hz": f,
                             "damping": np.nan if k is None else float(results[s].modes["damping"].iloc[k]),

@@ -209,10 +209,14 @@ def test_one_mode_of_a_setup_that_disagrees_is_left_out_of_that_mode_only():
     setups, results = _setups(4, truth)
     results[2].complex_shapes = results[2].complex_shapes.copy()
     results[2].complex_shapes[:2, 1] = results[2].complex_shapes[[1, 0], 1]  # its 7 Hz reference part swapped
+    results[2].modes["mode"] = [11, 12, 13]  # numbers as in its modes.csv, whatever they are
     merged = merge_setups(setups, results)
     assert merged.disagreements.empty and list(merged.modes["n_setups"]) == [4, 3, 4]
     row = merged.matches[(merged.matches["setup"] == "s3") & (merged.matches["mode"] == 2)]
     assert list(row["status"]) == ["left out"] and "residual" in row["reason"].iloc[0]
+    assert list(row["setup_mode"]) == [12] and row["ref_mac"].iloc[0] < 0.96
+    merged_rows = merged.matches[(merged.matches["setup"] == "s3") & (merged.matches["status"] == "merged")]
+    assert list(merged_rows["setup_mode"]) == [11, 13]
 
 
 def test_normalisation_is_not_set_by_a_node_that_disagrees_with_its_neighbours():
