@@ -8,6 +8,14 @@ import numbers
 import numpy as np
 
 
+def printable(text: str) -> str:
+    """``text`` with every byte that a file name held but UTF-8 could not
+    decode (Python keeps it as a lone surrogate, ``\\udce9``) shown as the
+    replacement character U+FFFD: a title, a page or a table can then be
+    drawn and written (a surrogate stops matplotlib and any UTF-8 writer)."""
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "replace")
+
+
 def positive_int(name: str, value, minimum: int = 1) -> int:
     """Return ``value`` as ``int`` if it is an integer ``>= minimum``."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):

@@ -17,6 +17,8 @@ from importlib.metadata import PackageNotFoundError, version
 import numpy as np
 import pandas as pd
 
+from .._checks import printable
+
 #: Half-width of the bands drawn around each estimate, in standard deviations
 #: (a 95 % interval for a normal estimate).
 BAND = 1.96
@@ -211,4 +213,4 @@ def campaign_report(path, tracked, untracked, failed, references, n_records, con
         "</body></html>",
     ]
     with open(path, "w", encoding="utf-8") as out:
-        out.write("\n".join(parts))
+        out.write(printable("\n".join(parts)))

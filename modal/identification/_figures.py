@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._checks import positive_float
+from .._checks import positive_float, printable
 from ._stabilisation import Stabilisation
 
 
@@ -80,5 +80,5 @@ def stabilisation_figure(result: Stabilisation, fmax=None, title=None, ax=None, 
     ax.set_ylabel("model order")
     ax.legend(loc="upper left", fontsize="small", framealpha=0.9)
     if title:
-        ax.set_title(title)
+        ax.set_title(printable(title))
     return fig

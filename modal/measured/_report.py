@@ -18,6 +18,8 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from .._checks import printable
+
 #: Damping ratio to the report's unit, % of critical.
 PERCENT = 100.0
 #: Columns of a record's modes shown, in order, with their headings (those
@@ -197,7 +199,7 @@ def identification_report(folder, result, settings: dict, title: str, steps=(), 
         per_setup_figures=None,
         steps=list(steps), settings=_settings_groups(settings))
     path = folder / "report.html"
-    path.write_text(page, encoding="utf-8")
+    path.write_text(printable(page), encoding="utf-8")
     return path
 
 
@@ -241,5 +243,5 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
         no_mode_reason="", evidence=[], notes=[], figures=figures, mac_table=None, candidates=None,
         per_setup_figures=per_setup, steps=list(steps), settings=_settings_groups(settings))
     path = folder / "report.html"
-    path.write_text(page, encoding="utf-8")
+    path.write_text(printable(page), encoding="utf-8")
     return path

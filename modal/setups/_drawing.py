@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from .._checks import printable
 from ._geometry import Geometry
 
 #: The largest drawn displacement as a fraction of the structure's size
@@ -77,7 +78,7 @@ def draw_mode(ax, geometry: Geometry, shapes: pd.DataFrame, mode: int, title: st
     deformed = xyz + _scale(geometry, u) * u.real
     _draw(ax, geometry, deformed, "C0", "-", 1.8)
     ax.scatter(*deformed[measured].T, color="C3", s=12, depthshade=False)
-    ax.set_title(title or f"mode {mode}", fontsize=10)
+    ax.set_title(printable(title or f"mode {mode}"), fontsize=10)
 
 
 def mode_shape_figure(geometry: Geometry, shapes: pd.DataFrame, mode: int, title: str | None = None):
@@ -115,7 +116,7 @@ def mode_shape_animation(geometry: Geometry, shapes: pd.DataFrame, mode: int, pa
     xyz, scale = geometry.coordinates, _scale(geometry, u)
     figure = Figure(figsize=(4, 4))
     ax = _axes(figure, geometry)
-    ax.set_title(title or f"mode {mode}", fontsize=9)
+    ax.set_title(printable(title or f"mode {mode}"), fontsize=9)
     figure.subplots_adjust(0, 0, 1, 0.93)
     lo = np.vstack([xyz - scale * np.abs(u), geometry.background_nodes]).min(axis=0)
     hi = np.vstack([xyz + scale * np.abs(u), geometry.background_nodes]).max(axis=0)

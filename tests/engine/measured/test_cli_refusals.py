@@ -203,6 +203,28 @@ def test_record_larger_than_the_memory_exits_4_not_internal_error(tmp_path):
     assert "Traceback" not in run.stderr and not (tmp_path / "out").exists()
 
 
+def test_a_record_whose_name_is_not_utf8_is_identified_and_drawn(tmp_path):
+    """A file name with a Latin-1 byte (Python keeps it as a lone surrogate)
+    is shown with U+FFFD in the diagram's title and the report; exit 0."""
+    folder = os.fsencode(tmp_path)
+    np.save(tmp_path / "r.npy", np.load(PALISADEN)[:6000])
+    os.rename(os.path.join(folder, b"r.npy"), os.path.join(folder, b"rec_\xe9.npy"))
+    (record,) = [p for p in tmp_path.iterdir() if p.name.startswith("rec_")]
+    # the command prints the name as the file system holds it (byte 0xe9), as ls does
+    run = subprocess.run([sys.executable, "-m", "modal", "identify", record, *PALISADEN_OPTIONS, "--out",
+                          tmp_path / "out"], capture_output=True, text=True, errors="surrogateescape", timeout=300)
+    assert run.returncode == 0, run.stderr
+    assert "Traceback" not in run.stderr and (tmp_path / "out" / "stabilisation.png").is_file()
+    assert "rec_\ufffd.npy" in (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+
+
+def test_printable_replaces_only_undecodable_bytes():
+    from modal._checks import printable
+
+    assert printable("rec_\udce9 \u00e9\u03bc.npy") == "rec_\ufffd \u00e9\u03bc.npy"  # é and µ kept
+    assert printable(os.fsdecode(b"caf\xc3\xa9")) == "caf\u00e9"
+
+
 # --- the record --------------------------------------------------------------------------------------------
 
 
