@@ -10,7 +10,8 @@ targets, the tests and the list of equivalent survivors
 (``benchmarks/mutation_selection_equivalent.txt``) differ. Targets: the
 functions of ``modal/identification/_stabilisation.py`` that select,
 judge and flag modes, state second estimates and notes, join clusters split
-across orders, and check the criteria.
+across orders, and check the criteria, and the segments' standard deviation
+(``segment_std``) whose seed pole the selection now picks.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_stabilisation.py"
 FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_notes",
-             "trusted_modes", "__post_init__", "_join_split_clusters")
+             "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std")
 TRUST = "tests/engine/identification/test_selection_trust.py"
 STAB = "tests/engine/identification/test_stabilisation.py::"
 MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
@@ -40,7 +41,8 @@ machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
         "test_select_modes_candidates_need_half_of_min_poles", "test_select_modes_cut_at_cluster_distance",
         "test_select_modes_same_order_poles_never_share_a_cluster", "test_select_modes_spread_and_candidate_table",
         "test_select_modes_cuts_by_distance_and_sorts_candidates", "test_join_split_clusters_nearest_pair_among_many")] + [
-    SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults"]}
+    SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults",
+    "tests/engine/measured/test_uncertainty.py"]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_selection_equivalent.txt"
 
 if __name__ == "__main__":

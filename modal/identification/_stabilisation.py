@@ -481,8 +481,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     ``K`` segments of the record.
 
     The full record's observability subspace is kept: ``U`` the leading
-    left singular vectors of its ``H(0)`` (Eq. 35) at the order of the
-    mode's pole nearest its mean frequency. With ``H_k(0)``, ``H_k(1)``
+    left singular vectors of its ``H(0)`` (Eq. 35) at the highest order
+    among the mode's poles (the fullest model that holds it; a low order's
+    basis leaves other modes out, and the segments' eigenvalues then scatter
+    with that bias), from its pole there nearest the mode's mean frequency. With ``H_k(0)``, ``H_k(1)``
     built from segment ``k`` as in Eq. (34),
     ``A_k = (U^T H_k(1)) (U^T H_k(0))^+`` is segment ``k``'s state matrix in
     that basis (``U^T H(0) = T C`` and ``U^T H(1) = T A C`` for an exact
@@ -511,6 +513,7 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     seeds = []
     for number, f in zip(modes["mode"], modes["freq_hz"]):
         members = np.flatnonzero(labels == number)
+        members = members[order[members] == order[members].max()]  # the fullest model that holds the mode
         r = members[np.argmin(np.abs(f_pole[members] - f))]
         omega, zeta = 2 * np.pi * f_pole[r], poles["damping"][r]
         seeds.append((int(order[r]), omega * complex(-zeta, np.sqrt(max(1 - zeta**2, 0.0)))))
