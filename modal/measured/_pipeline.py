@@ -63,6 +63,9 @@ def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
 #: beyond any data acquisition (a 24-bit converter spans 144 dB) and far above
 #: double precision's 1e-16 (an exact ramp or a constant leaves ~1e-16).
 NO_VIBRATION_RTOL = 1e-10
+#: Round-off of the detrended record against its peak: a few hundred units
+#: of double precision (an exact ramp of 2e6 samples leaves 640 eps).
+ROUND_OFF = 1e3 * np.finfo(float).eps
 
 
 def no_vibration(raw, detrended) -> np.ndarray:
@@ -79,18 +82,22 @@ def _refuse_no_vibration(raw, detrended, labels) -> None:
     if dead.size:
         rms = np.sqrt(np.mean(np.square(detrended[:, dead]), axis=0))
         peak = np.max(np.abs(raw[:, dead]), axis=0)
+        offset = np.abs(np.mean(raw[:, dead], axis=0))
         which = ", ".join(str(labels[c]) for c in dead)
         everything = dead.size == raw.shape[1]
-        if everything:
-            subject = "no channel holds vibration" + (f" (channels {which})" if dead.size > 1 else "")
+        channels = f"channel {which}" if dead.size == 1 else f"channels {which}"
+        if np.all(rms > ROUND_OFF * peak) and np.all(offset > 0.5 * peak):
+            # something varies, more than round-off, on an offset so large that it lies in the last digits
+            subject = f"{channels}: vibration lost in an offset"
+            why = (f"what varies (rms {rms.max():.2g}) is less than {NO_VIBRATION_RTOL:g} of the offset it rides "
+                   f"on (mean {offset.min():.3g}), the round-off of most acquisitions' numbers: subtract the offset "
+                   "before the record is written")
         else:
-            subject = f"channel {which} holds no vibration" if dead.size == 1 else \
-                f"channels {which} hold no vibration"
-        raise ValueError(
-            f"{subject}: after removing the linear "
-            f"trend what remains (rms {rms.max():.2g}) is round-off against the values (peak {peak.min():.3g}), "
-            "as for a constant, an exact drift (linear ramp) or a dead sensor"
-            + ("" if everything else "; leave it out of the channels used (--channels)"))
+            subject = (("no channel holds vibration" + (f" ({channels})" if dead.size > 1 else ""))
+                       if everything else f"{channels} {'holds' if dead.size == 1 else 'hold'} no vibration")
+            why = (f"after removing the linear trend what remains (rms {rms.max():.2g}) is round-off against the "
+                   f"values (peak {peak.min():.3g}), as for a constant, an exact drift (linear ramp) or a dead sensor")
+        raise ValueError(f"{subject}: {why}" + ("" if everything else "; leave it out of the channels used (--channels)"))
 
 
 def available_memory() -> int:

@@ -288,6 +288,18 @@ def test_one_dead_channel_is_named_in_the_record_numbering(capsys, tmp_path):
     assert "channel 2 holds no vibration" in _one_line(err) and "leave it out" in err
 
 
+def test_vibration_on_a_huge_offset_is_named_as_such(tmp_path, capsys):
+    """1e9 added to a good record in double precision: not "no vibration"
+    but a vibration lost in an offset, with the fix."""
+    path = tmp_path / "offset.npy"
+    np.save(path, np.load(PALISADEN)[:6000].astype(float) + 1e9)
+    code, _, err = _run(capsys, "identify", path, *PALISADEN_OPTIONS, "--out", tmp_path / "out")
+    assert code == EXIT_CANNOT_IDENTIFY
+    line = _one_line(err)
+    assert "channels 0, 1, 2, 3, 4, 5: vibration lost in an offset" in line and "(mean 1e+09)" in line
+    assert "subtract the offset" in line and "no vibration" not in line
+
+
 # --- memory ------------------------------------------------------------------------------------------------
 
 
