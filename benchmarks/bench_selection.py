@@ -135,6 +135,7 @@ def score(modes, f_true, z_true, nyquist):
     flagged real, flagged spurious; and the coverage hits."""
     expected = f_true < 0.8 * nyquist
     flag = modes["flag"].fillna("") if "flag" in modes else pd.Series([""] * len(modes), index=modes.index)
+    modes = modes.assign(flag=flag)
     trusted = modes[flag == ""]
     doubtful = modes[flag != ""]
     hits = np.zeros(len(f_true), dtype=int)
@@ -150,9 +151,12 @@ def score(modes, f_true, z_true, nyquist):
             row["cover_n"] += 1
             row["cover_f"] += abs(f - f_true[j]) <= 1.96 * sf
             row["cover_d"] += abs(d - z_true[j]) <= 1.96 * sd
-    for f in doubtful["freq_hz"]:
+    row["flagged_real_witness"] = 0
+    for f, flag in zip(doubtful["freq_hz"], doubtful["flag"]):
         real = np.min(np.abs(f_true / f - 1)) <= MATCH
         row["flagged_real" if real else "flagged_spurious"] += 1
+        # a real mode whose only reason is the spectral witness's (modal.spectral_support), not the selection's
+        row["flagged_real_witness"] += bool(real and flag == "no spectral peak")
     row["found"] = int(np.sum((hits > 0) & expected))
     row["duplicate"] = int(np.sum(np.clip(hits - 1, 0, None)))
     return row

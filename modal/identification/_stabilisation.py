@@ -37,6 +37,9 @@ ABOVE_COLUMNS = ["freq_hz", "n_poles"]
 MAD_SCALE = 1.4826
 #: Two shapes whose ``1 - MAC`` is below this are one shape, whatever their scatter (one channel: MAC 1).
 SAME_SHAPE_ATOL = 1e-9
+#: A mode is doubted for living in one channel only when there are at least this many: of two sensors, one
+#: near a node of a real mode is common (simulated chains with two sensors flagged real modes).
+MIN_CHANNELS_ALIKE = 3
 QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
@@ -108,8 +111,8 @@ class StabilityCriteria:
         A mode whose damping ratio is more than this factor below or above
         the median of the record's modes is flagged ``damping ... implausible``.
     single_channel_share : float
-        A mode of a record of several channels whose largest channel holds at
-        least this share of the shape's energy (``|phi_c|^2 / sum |phi|^2``,
+        A mode of a record of three channels or more whose largest channel
+        holds at least this share of the shape's energy (``|phi_c|^2 / sum |phi|^2``,
         each channel's entry in its own quantity over that channel's RMS, so
         that units and levels do not count) is flagged ``single channel``.
     """
@@ -752,8 +755,9 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
       ``criteria.damping_factor`` times below or above the median damping of
       the record's modes of MPC at least ``doubtful_mpc`` (of all modes when
       fewer than two are; no check for a single mode);
-    - ``single channel``: of several channels, one holds at least
-      ``criteria.single_channel_share`` of the shape's energy.
+    - ``single channel``: of :data:`MIN_CHANNELS_ALIKE` channels or more,
+      one holds at least ``criteria.single_channel_share`` of the shape's
+      energy.
     """
     mpc, damping = modes["mpc"].to_numpy(), modes["damping"].to_numpy()
     clean = damping[mpc >= criteria.doubtful_mpc]
@@ -779,7 +783,7 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
         if len(modes) > 1 and not (reference / criteria.damping_factor <= damping[k]
                                    <= reference * criteria.damping_factor):
             reasons.append(f"damping {100 * damping[k]:.2g} % implausible (median {100 * reference:.2g} %)")
-        if len(visible) > 1 and share[k] >= criteria.single_channel_share:
+        if len(visible) >= MIN_CHANNELS_ALIKE and share[k] >= criteria.single_channel_share:
             reasons.append("single channel")
         flags.append("; ".join(reasons))
     return flags

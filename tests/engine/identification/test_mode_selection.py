@@ -270,7 +270,8 @@ def test_documented_defaults():
     assert (criteria.damping_factor, criteria.single_channel_share) == (5.0, 0.95)
     from modal.identification import _stabilisation
 
-    assert (_stabilisation.MAD_SCALE, _stabilisation.SAME_SHAPE_ATOL) == (1.4826, 1e-9)
+    assert (_stabilisation.MAD_SCALE, _stabilisation.SAME_SHAPE_ATOL, _stabilisation.MIN_CHANNELS_ALIKE) == (
+        1.4826, 1e-9, 3)
     from modal.identification import _era_kernels, _result
     from modal.measured import _pipeline
 
