@@ -26,6 +26,8 @@ give one) or from the project's own CSV (:func:`read_channel_table`).
 
 from __future__ import annotations
 
+import re
+import unicodedata
 from pathlib import Path
 
 import numpy as np
@@ -36,13 +38,26 @@ from ..identification import QUANTITIES
 COLUMNS = ["channel", "name", "node", "x", "y", "z", "quantity", "unit", "role"]
 ROLES = ("reference", "roving")
 
-#: Factor to SI of each unit the table may name (lower case, ``^`` and spaces
-#: ignored): displacement to m, velocity to m/s, acceleration to m/s^2.
+#: Factor to SI of each unit the table may name, in the spelling
+#: :func:`unit_key` brings every spelling to: displacement to m, velocity
+#: to m/s, acceleration to m/s^2 (``mg`` is milli-g, ``gal`` cm/s^2).
 UNITS = {
-    "displacement": {"m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "in": 0.0254},
-    "velocity": {"m/s": 1.0, "mm/s": 1e-3, "um/s": 1e-6, "µm/s": 1e-6, "in/s": 0.0254},
-    "acceleration": {"m/s2": 1.0, "mm/s2": 1e-3, "g": 9.80665, "in/s2": 0.0254},
+    "displacement": {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "um": 1e-6, "in": 0.0254},
+    "velocity": {"m/s": 1.0, "cm/s": 1e-2, "mm/s": 1e-3, "um/s": 1e-6, "in/s": 0.0254},
+    "acceleration": {"m/s2": 1.0, "cm/s2": 1e-2, "gal": 1e-2, "mm/s2": 1e-3, "g": 9.80665, "mg": 9.80665e-3,
+                     "in/s2": 0.0254},
 }
+
+
+def unit_key(unit) -> str:
+    """The spelling of ``unit`` that :data:`UNITS` uses: Unicode compatibility
+    form (the micro sign and the Greek mu are one letter, superscripts plain
+    digits), lower case, ``u`` for micro, without spaces, ``^``, ``*`` or
+    ``·``, and a negative power of s written as a division: ``m s^-2``,
+    ``m·s⁻²``, ``m/s**2`` and ``m/s²`` are all ``m/s2``; ``µm/s`` is ``um/s``."""
+    key = unicodedata.normalize("NFKC", str(unit)).strip().lower().replace("\u03bc", "u").replace("\u2212", "-")
+    key = re.sub(r"[\s^*\u00b7\u22c5]", "", key)
+    return re.sub(r"s-([12])$", lambda m: "/s" + ("2" if m.group(1) == "2" else ""), key)
 
 #: Components of a unit direction whose norm differs from 1 by more than
 #: this are refused; smaller deviations (rounded files) are normalised.
@@ -64,10 +79,11 @@ def unit_factor(quantity: str, unit) -> float:
     """The factor that brings a channel in ``unit`` to SI (1 for no unit)."""
     if unit is None or (isinstance(unit, float) and np.isnan(unit)) or str(unit).strip() == "":
         return 1.0
-    key = str(unit).strip().lower().replace("^", "").replace(" ", "").replace("²", "2")
+    key = unit_key(unit)
     known = UNITS[quantity]
     if key not in known:
-        raise ValueError(f"unit {unit!r} is not a unit of {quantity}: expected one of {', '.join(known)}")
+        raise ValueError(f"unit {unit!r} is not a unit of {quantity}: expected one of {', '.join(known)} "
+                         "(any case; µ or u for micro; m/s^2, m s^-2 and m/s² alike)")
     return known[key]
 
 

@@ -402,3 +402,28 @@ def test_roving_report_settings_and_drawing_progress(tmp_path):
         assert own["options"]["channels"] == list(s.channels["channel"])
         assert own["options"]["quantities"] == list(s.channels["quantity"])
         assert (out / "setups" / s.name / "report.html").is_file() and (out / "setups" / s.name / "mac.csv").is_file()
+
+
+@pytest.mark.parametrize("quantity, spellings, factor", [
+    ("acceleration", ["m/s2", "m/s^2", "m/s**2", "m s^-2", "m s-2", "m·s⁻²", "M/S²"], 1.0),
+    ("acceleration", ["mg", "mG"], 9.80665e-3),
+    ("acceleration", ["g", "G"], 9.80665),
+    ("acceleration", ["cm/s2", "gal", "Gal"], 1e-2),
+    ("velocity", ["µm/s", "\u03bcm/s", "um/s", "µm s^-1"], 1e-6),  # the micro sign and the Greek mu
+    ("velocity", ["mm/s", "mm s-1"], 1e-3),
+    ("displacement", ["µm", "\u03bcm"], 1e-6),
+])
+def test_unit_spellings_are_one_unit(quantity, spellings, factor):
+    from modal.setups._channels import unit_factor
+
+    for unit in spellings:
+        assert unit_factor(quantity, unit) == pytest.approx(factor, rel=1e-15), unit
+
+
+@pytest.mark.parametrize("quantity, unit", [("acceleration", "m/s"), ("velocity", "m/s2"), ("acceleration", "ms"),
+                                            ("displacement", "mg"), ("acceleration", "m s-1")])
+def test_a_unit_of_another_quantity_is_refused(quantity, unit):
+    from modal.setups._channels import unit_factor
+
+    with pytest.raises(ValueError, match=rf"unit '{unit}' is not a unit of {quantity}: expected one of"):
+        unit_factor(quantity, unit)
