@@ -87,6 +87,21 @@ def unit_factor(quantity: str, unit) -> float:
     return known[key]
 
 
+def _column_number(value) -> int | None:
+    """``value`` as a column number of a record (a whole number from 0 to
+    2**31, written as an integer or a float such as ``3.0``), else None:
+    text, NaN, inf, a fraction, a negative number or one no record has."""
+    if isinstance(value, (bool, np.bool_)):
+        return None
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        return None
+    if not np.isfinite(number) or number != int(number) or not 0 <= number < 2**31:
+        return None
+    return int(number)
+
+
 def check_channel_table(table: pd.DataFrame, n_channels: int | None = None, source="the channel table",
                         nodes=None) -> pd.DataFrame:
     """The channel table checked and normalised, or ``ValueError`` saying
@@ -104,10 +119,11 @@ def check_channel_table(table: pd.DataFrame, n_channels: int | None = None, sour
     t = table[COLUMNS].copy().reset_index(drop=True)
     if t.empty:
         raise ValueError(f"{source}: no channel")
-    for row, value in enumerate(t["channel"]):
-        if isinstance(value, (bool, np.bool_)) or not float(value) == int(float(value)) or int(float(value)) < 0:
+    numbers = [_column_number(value) for value in t["channel"]]
+    for row, (value, number) in enumerate(zip(t["channel"], numbers)):
+        if number is None:
             raise ValueError(f"{source}: row {row + 1}: channel must be a column number >= 0, got {value!r}")
-    t["channel"] = t["channel"].astype(float).astype(int)
+    t["channel"] = numbers
     if n_channels is not None and t["channel"].max() >= n_channels:
         bad = t.loc[t["channel"] >= n_channels, "channel"].tolist()
         raise ValueError(f"{source}: channel(s) {bad} beyond the record's {n_channels} columns (0 ... {n_channels - 1})")
@@ -186,7 +202,8 @@ def read_channel_table(path, n_channels=None, nodes=None) -> pd.DataFrame:
             bad = numbers.isna() & table[column].notna()
             if bad.any():
                 row = int(np.flatnonzero(bad)[0])
-                raise ValueError(f"{path}: row {row + 2}: {column} must be a number, got {table[column][row]!r}")
+                # rows counted as the table checks count them: the channels, from 1, the header not counted
+                raise ValueError(f"{path}: row {row + 1}: {column} must be a number, got {table[column][row]!r}")
             table[column] = numbers
     return check_channel_table(table, n_channels, source=str(path), nodes=nodes)
 

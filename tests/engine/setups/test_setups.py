@@ -210,6 +210,12 @@ def _table(**changes):
     ({"unit": ["m/s", "g"]}, "unit 'm/s' is not a unit of acceleration"),
     ({"role": ["reference", "fixed"]}, "role 'fixed'"),
     ({"channel": [0, 7]}, r"channel\(s\) \[7\] beyond the record's 2 columns"),
+    ({"channel": [0, float("inf")]}, r"row 2: channel must be a column number >= 0, got inf"),
+    ({"channel": [0, float("nan")]}, r"row 2: channel must be a column number >= 0, got nan"),
+    ({"channel": [0, "99999999999999999999"]}, r"row 2: channel must be a column number >= 0, got 1e\+20"),
+    ({"channel": ["one", 1]}, r"row 1: channel must be a number, got 'one'"),  # rows of channels, as below
+    ({"channel": [0, 1.5]}, r"row 2: channel must be a column number >= 0, got 1.5"),
+    ({"channel": [-1, 1]}, r"row 1: channel must be a column number >= 0, got -1"),
     ({"channel": [1, 1]}, r"channel\(s\) \[1\] listed twice"),
     ({"node": ["1", "1"], "z": [0.0, 0.0], "x": [1.0, 1.0]}, "measure the same node 1 in the same direction"),
     ({"node": ["1", "9"]}, r"node\(s\) 9 not in the geometry"),
