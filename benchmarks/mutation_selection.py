@@ -37,7 +37,8 @@ machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
     "test_select_modes_joins_groups_by_average_linkage", "test_select_modes_weighs_damping_with_frequency",
     "test_select_modes_numbers_modes_by_mean_frequency", "test_select_modes_one_pole_modes_have_nan_spread_silently",
     "test_stabilisation_stops_at_the_numerical_rank")] + [MUTANTS + t for t in (
-        "test_one_mode_table_types", "test_select_modes_small_tables", "test_select_modes_medoid_is_the_central_pole",
+        "test_one_mode_table_types", "test_no_mode_warning_names_the_reason_at_the_caller",
+        "test_select_modes_small_tables", "test_select_modes_medoid_is_the_central_pole",
         "test_select_modes_candidates_need_half_of_min_poles", "test_select_modes_cut_at_cluster_distance",
         "test_select_modes_same_order_poles_never_share_a_cluster", "test_select_modes_spread_and_candidate_table",
         "test_select_modes_cuts_by_distance_and_sorts_candidates", "test_join_split_clusters_nearest_pair_among_many")] + [
