@@ -435,3 +435,12 @@ def test_the_selection_does_not_depend_on_the_order_of_the_poles():
         np.testing.assert_array_equal(again, labels[shuffle])
         assert other["second_freq_hz"].tolist()[1] == pytest.approx(10.01), seed
         assert other["second_damping"].tolist()[1] == pytest.approx(0.02), seed
+
+
+def test_modes_of_mpc_exactly_at_the_threshold_set_the_damping_median():
+    """Two modes of MPC exactly 0.7 (1 % damped) and two of MPC 0.3 (6 %):
+    the median is that of the first two (MPC at least the threshold), so the
+    6 % modes are 6 x above it and flagged for damping too."""
+    modes = mode_table([0.7, 0.7, 0.3, 0.3], [1.0] * 4, [0.01, 0.01, 0.06, 0.06])
+    flags = _flags(modes, np.ones((3, 4)), modal.StabilityCriteria())
+    assert flags == ["", ""] + ["low MPC 0.30; damping 6 % implausible (median 1 %)"] * 2
