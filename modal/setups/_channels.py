@@ -26,6 +26,7 @@ give one) or from the project's own CSV (:func:`read_channel_table`).
 
 from __future__ import annotations
 
+import io
 import re
 import unicodedata
 from pathlib import Path
@@ -184,14 +185,30 @@ def read_channel_table(path, n_channels=None, nodes=None) -> pd.DataFrame:
     SI). Channels of the record not listed are not used.
     """
     path = Path(path)
+    text = text_of(path)
+    if not text.strip():
+        raise ValueError(f"{path}: the channel table is empty; expected a header {','.join(COLUMNS)} and one row "
+                         "per channel")
     try:
-        table = pd.read_csv(path, dtype={"node": str, "name": str, "unit": str}, skipinitialspace=True)
-    except (OSError, pd.errors.ParserError, UnicodeDecodeError) as exc:
+        table = pd.read_csv(io.StringIO(text), dtype={"node": str, "name": str, "unit": str}, skipinitialspace=True)
+    except pd.errors.ParserError as exc:
         raise ValueError(f"{path}: cannot read the channel table: {exc}") from None
     table.columns = [str(c).strip().lower() for c in table.columns]
-    if not {"x", "y", "z"} <= set(table.columns) and {"azimuth", "elevation"} <= set(table.columns):
+    if {"azimuth", "elevation"} <= set(table.columns):
         angles = table[["azimuth", "elevation"]].apply(pd.to_numeric, errors="coerce").to_numpy()
-        table[["x", "y", "z"]] = direction_from_angles(angles[:, 0], angles[:, 1])
+        from_angles = direction_from_angles(angles[:, 0], angles[:, 1])
+        if {"x", "y", "z"} <= set(table.columns):
+            xyz = table[["x", "y", "z"]].apply(pd.to_numeric, errors="coerce").to_numpy()
+            norm = np.linalg.norm(xyz, axis=1, keepdims=True)
+            differ = np.flatnonzero(np.linalg.norm(xyz / np.where(norm > 0, norm, 1) - from_angles, axis=1)
+                                    > DIRECTION_RTOL)
+            if differ.size:
+                r = differ[0]
+                raise ValueError(f"{path}: row {r + 1}: x, y, z = {tuple(np.round(xyz[r], 4).tolist())} and "
+                                 f"azimuth, elevation = {tuple(angles[r].tolist())} (direction "
+                                 f"{tuple(np.round(from_angles[r], 4).tolist())}) disagree: give one or the other")
+        else:
+            table[["x", "y", "z"]] = from_angles
     if "name" not in table.columns and "channel" in table.columns:
         table["name"] = [f"ch{c}" for c in table["channel"]]
     if "unit" not in table.columns:
@@ -208,10 +225,32 @@ def read_channel_table(path, n_channels=None, nodes=None) -> pd.DataFrame:
     return check_channel_table(table, n_channels, source=str(path), nodes=nodes)
 
 
+def text_of(path: Path) -> str:
+    """The text of a setup's or geometry's file: UTF-8 (a byte order mark
+    dropped), else Latin-1, which Windows exports of pyOMA's files use and
+    which decodes any byte (the numbers read the same).
+
+    Raises
+    ------
+    ValueError
+        Naming the file when it cannot be read or holds binary data (a NUL byte).
+    """
+    try:
+        raw = Path(path).read_bytes()
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    if b"\x00" in raw:
+        raise ValueError(f"{path}: binary data (a NUL byte), not a text file (UTF-16 text: save it as UTF-8)")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return raw.decode("latin-1")
+
+
 def _pyoma_lists(path: Path) -> dict:
     """pyOMA's ``setup_info.txt``: a label line ending in ``:`` and the
     values on the next line (blank when none)."""
-    lines = path.read_text().splitlines()
+    lines = text_of(path).splitlines()
     info = {}
     for i, line in enumerate(lines):
         if line.strip().endswith(":"):
@@ -259,7 +298,10 @@ def read_pyoma_setup(folder) -> tuple[Path, float, pd.DataFrame]:
         for c in numbers(key):
             quantity[c] = name
     try:
-        dofs = pd.read_csv(dofs_path, sep="\t", dtype=str)
+        text = text_of(dofs_path)
+        if not text.strip():
+            raise ValueError("the file is empty")
+        dofs = pd.read_csv(io.StringIO(text), sep="\t", dtype=str)
         dofs.columns = [c.strip().lower() for c in dofs.columns]
         channel = dofs["channel-nr."].astype(int)
         angles = dofs[["azimuth", "elevation"]].astype(float).to_numpy()

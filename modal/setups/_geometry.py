@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ._channels import check_channel_table
+from ._channels import check_channel_table, text_of
 
 
 @dataclass(frozen=True)
@@ -137,7 +137,7 @@ def _table(path: Path, names=None, sep=r"\s+", header="infer", dtype=str) -> pd.
     import io
 
     try:
-        lines = path.read_text().splitlines()
+        lines = text_of(path).splitlines()
         body = "\n".join(line for line in itertools.takewhile(lambda t: not t.startswith("#"), lines) if line.strip())
         table = pd.read_csv(io.StringIO(body), sep=sep, header=header, names=names, dtype=dtype,
                             skipinitialspace=True)
@@ -149,11 +149,15 @@ def _table(path: Path, names=None, sep=r"\s+", header="infer", dtype=str) -> pd.
 
 def _numbers(table, columns, path) -> np.ndarray:
     try:
-        return table[columns].astype(float).to_numpy()
+        values = table[columns]
     except KeyError as exc:
-        raise ValueError(f"{path}: expected columns {', '.join(columns)}, missing {exc}") from None
-    except ValueError as exc:
-        raise ValueError(f"{path}: {', '.join(columns)} must be numbers ({exc})") from None
+        raise ValueError(f"{path}: expected columns {', '.join(map(str, columns))}, missing {exc}") from None
+    numbers = values.apply(pd.to_numeric, errors="coerce")
+    bad = numbers.isna().to_numpy() & values.notna().to_numpy()
+    if bad.any():
+        r, c = np.argwhere(bad)[0]
+        raise ValueError(f"{path}: row {r + 1}, column {columns[c]}: {values.iat[r, c]!r} is not a number")
+    return numbers.to_numpy(dtype=float)
 
 
 def _nodes(names, xyz) -> pd.DataFrame:
@@ -188,6 +192,9 @@ def _read_pyoma(folder: Path) -> Geometry:
     lines = []
     if (folder / "lines.txt").is_file():
         t = _table(folder / "lines.txt")
+        if t.shape[1] != 2:
+            raise ValueError(f"{folder / 'lines.txt'}: expected 2 columns (the two nodes of each line), "
+                             f"found {t.shape[1]}")
         lines = [(str(a).strip(), str(b).strip()) for a, b in zip(t.iloc[:, 0], t.iloc[:, 1])]
     links = Geometry.__dataclass_fields__["links"].default_factory()
     path = folder / "parent_child_assignments.txt"
@@ -228,7 +235,7 @@ def _read_pyoma2_points(folder: Path) -> Geometry:
             if name in ("0", "nan", ""):
                 continue
             e = np.zeros(3)
-            e["xyz".index(column)] = float(sign.loc[point, column])
+            e["xyz".index(column)] = _sign(sign.loc[point, column], point, column, folder / "sens_sign.txt")
             rows.append({"name": name, "node": point, "x": e[0], "y": e[1], "z": e[2]})
     lines = []
     if (folder / "sens_lines.txt").is_file():
@@ -237,6 +244,18 @@ def _read_pyoma2_points(folder: Path) -> Geometry:
     bg_nodes, bg_lines = _background(folder)
     return Geometry(nodes, lines, sensors=pd.DataFrame(rows, columns=["name", "node", "x", "y", "z"]),
                     background_nodes=bg_nodes, background_lines=bg_lines, source=str(folder))
+
+
+def _sign(value, point, column, path) -> float:
+    """A sensor's sign in pyOMA2's ``sens_sign.txt``: 1 or -1."""
+    try:
+        sign = float(value)
+    except (TypeError, ValueError):
+        sign = np.nan
+    if sign not in (1.0, -1.0):
+        raise ValueError(f"{path}: point {point}, column {column}: {str(value).strip()!r} is not a sign: "
+                         "expected 1 or -1")
+    return sign
 
 
 def _read_pyoma2_sensors(folder: Path) -> Geometry:

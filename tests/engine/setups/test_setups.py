@@ -433,3 +433,55 @@ def test_a_unit_of_another_quantity_is_refused(quantity, unit):
 
     with pytest.raises(ValueError, match=rf"unit '{unit}' is not a unit of {quantity}: expected one of"):
         unit_factor(quantity, unit)
+
+
+# --- setup and geometry files as exported elsewhere ---------------------------------------------
+def test_pyoma_setup_in_latin1_reads_as_in_utf8(tmp_path):
+    """A Windows export: setup_info.txt in Latin-1 (a name with 'ä') reads
+    like its UTF-8 copy; an empty channel_dofs.txt is named as empty."""
+    acc = np.random.default_rng(0).standard_normal((200, 2))
+    utf8 = _pyoma_folder(tmp_path / "a", acc, [1, 2], [(0, 0), (90, 0)], refs=[0], deleted=[], accel=[0, 1], velo=[])
+    latin = _pyoma_folder(tmp_path / "b", acc, [1, 2], [(0, 0), (90, 0)], refs=[0], deleted=[], accel=[0, 1], velo=[])
+    for folder in (utf8, latin):
+        info = (folder / "setup_info.txt").read_text().replace(f"\n{folder.name}\n", "\nMessung_ä\n", 1)
+        (folder / "setup_info.txt").write_bytes(info.encode("utf-8" if folder is utf8 else "latin-1"))
+    pd.testing.assert_frame_equal(read_pyoma_setup(latin)[2], read_pyoma_setup(utf8)[2])
+    assert read_pyoma_setup(latin)[1] == 100
+    (latin / "channel_dofs.txt").write_text("")
+    with pytest.raises(ValueError, match=r"b/channel_dofs.txt: expected tab-separated columns .*the file is empty"):
+        read_pyoma_setup(latin)
+
+
+def test_channel_table_with_xyz_and_angles_that_disagree_is_refused(tmp_path):
+    """Both ways of giving a direction: used when they agree, refused naming
+    the row when they do not (the angles were silently ignored)."""
+    table = _table()
+    table["azimuth"], table["elevation"] = [0.0, 0.0], [0.0, 90.0]  # (1, 0, 0) and (0, 0, 1): as x, y, z
+    table.to_csv(tmp_path / "channels.csv", index=False)
+    agreed = read_channel_table(tmp_path / "channels.csv", n_channels=2, nodes=["1", "2"])
+    np.testing.assert_allclose(agreed[["x", "y", "z"]].to_numpy(dtype=float), [[1, 0, 0], [0, 0, 1]], atol=1e-12)
+    table["elevation"] = [0.0, -90.0]  # row 2 now points down, x, y, z up
+    table.to_csv(tmp_path / "channels.csv", index=False)
+    with pytest.raises(ValueError, match=r"channels.csv: row 2: x, y, z = \(0.0, 0.0, 1.0\) and azimuth, elevation "
+                                         r"= \(0.0, -90.0\) \(direction \(0.0, 0.0, -1.0\)\) disagree"):
+        read_channel_table(tmp_path / "channels.csv", n_channels=2, nodes=["1", "2"])
+    (tmp_path / "channels.csv").write_text("")
+    with pytest.raises(ValueError, match="the channel table is empty"):
+        read_channel_table(tmp_path / "channels.csv", n_channels=2)
+
+
+def test_geometry_files_name_the_bad_row(tmp_path):
+    (tmp_path / "grid.txt").write_text("node_name\t x\t y\t z\n 1 0 0 0\n 2 1 zero 0\n")
+    with pytest.raises(ValueError, match=r"grid.txt: row 2, column y: 'zero' is not a number"):
+        read_geometry(tmp_path)
+    (tmp_path / "grid.txt").write_text("node_name\t x\t y\t z\n 1 0 0 0\n 2 1 0 0\n")
+    (tmp_path / "lines.txt").write_text("1\n2\n")
+    with pytest.raises(ValueError, match=r"lines.txt: expected 2 columns \(the two nodes of each line\), found 1"):
+        read_geometry(tmp_path)
+    signs = tmp_path / "p2"
+    signs.mkdir()
+    for name in ("pts_coord.txt", "sens_map.txt", "sens_sign.txt"):
+        (signs / name).write_text((DATA / "palisaden_geometry" / name).read_text())
+    (signs / "sens_sign.txt").write_text((signs / "sens_sign.txt").read_text().replace("-1", "minus", 1))
+    with pytest.raises(ValueError, match=r"sens_sign.txt: point 1, column x: 'minus' is not a sign: expected 1 or -1"):
+        read_geometry(signs)
