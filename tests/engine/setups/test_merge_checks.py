@@ -281,3 +281,87 @@ def test_a_setup_with_a_unit_slip_is_named_by_the_command(tmp_path, capsys):
     err = " ".join(capsys.readouterr().err.split())
     assert code == 5 and "setup setup_1 left out" in err and "setup setup_3 left out" in err
     assert "which one is wrong cannot be told" in err
+
+
+def test_what_matches_csv_says_of_a_setup_left_out():
+    """A setup left out of the merge is listed in every mode with its
+    nearest mode (number, frequency, damping, reference MAC) when it has
+    one within the tolerance, else with none (a wrong rate)."""
+    truth = _truth()
+    setups, results = _setups(3, truth)
+    _spoil(setups, results, 1, "unit slip")
+    results[1].modes["mode"] = [4, 5, 6]
+    results[1].modes["damping"] = [0.02, 0.03, 0.04]
+    rows = merge_setups(setups, results).matches.query("setup == 's2'")
+    assert list(rows["setup_mode"]) == [4, 5, 6] and list(rows["source"]) == ["selected"] * 3
+    np.testing.assert_allclose(rows["freq_hz"], results[1].modes["freq_hz"])
+    np.testing.assert_allclose(rows["damping"], [0.02, 0.03, 0.04])
+    assert (rows["ref_mac"] > 0.9999).all() and rows["ref_share"].isna().all() and rows["scale"].isna().all()
+    assert (rows["reason"].str.startswith("its reference channels record")).all()
+    setups, results = _setups(3, truth)
+    _spoil(setups, results, 1, "wrong rate")
+    rows = merge_setups(setups, results).matches.query("setup == 's2'")
+    assert list(rows["setup_mode"]) == [0, 0, 0] and rows["freq_hz"].isna().all() and rows["ref_mac"].isna().all()
+    assert list(rows["source"]) == [""] * 3 or rows["source"].isna().all()
+
+
+def test_a_mode_whose_reference_part_is_another_is_left_out_with_its_number():
+    """Setup 3's 7 Hz mode has a reference part orthogonal to the others'
+    (MAC below mac_min): it cannot join, and is named as left out of that
+    mode with its own number and MAC."""
+    truth = _truth()
+    setups, results = _setups(4, truth)
+    results[2].complex_shapes = results[2].complex_shapes.copy()
+    r = results[2].complex_shapes[:2, 1]
+    results[2].complex_shapes[:2, 1] = [-np.conj(r[1]), np.conj(r[0])]  # orthogonal to r
+    results[2].modes["mode"] = [7, 8, 9]
+    merged = merge_setups(setups, results)
+    assert list(merged.modes["n_setups"]) == [4, 3, 4] and list(merged.modes["left_out"]) == ["", "s3", ""]
+    row = merged.matches.query("setup == 's3' and mode == 2")
+    assert list(row["status"]) == ["left out"] and list(row["setup_mode"]) == [8]
+    assert row["ref_mac"].iloc[0] < 0.05 and "its mode 8 (7 Hz) has a reference part of MAC 0.00 < 0.8" in \
+        row["reason"].iloc[0]
+
+
+def test_a_mode_a_setup_did_not_select_comes_from_its_stable_poles():
+    """Setup 2 did not select the 7 Hz mode; its diagram holds stable
+    physical poles there: the one with the matching reference part (not the
+    one with another, nor one far in frequency, nor an unstable one) gives
+    its roving nodes a shape (source diagram, setup_mode 0)."""
+    truth = _truth()
+    setups, results = _setups(3, truth)
+    second = results[1]
+    shape = second.complex_shapes[:, 1]
+    other = shape.copy()
+    other[:2] = [-np.conj(shape[1]), np.conj(shape[0])]
+    second.poles = pd.DataFrame({"freq_hz": [7.0, 7.01, 7.9, 7.0], "damping": [0.012, 0.05, 0.01, 0.01],
+                                 "stable": [True, True, True, False], "physical": [True, True, True, True]})
+    second.pole_shapes = np.stack([shape, other, shape, other])
+    second.modes = second.modes.drop(index=1).reset_index(drop=True)
+    second.complex_shapes = second.complex_shapes[:, [0, 2]]
+    merged = merge_setups(setups, results)
+    assert list(merged.modes["n_setups"]) == [3, 2, 3] and list(merged.modes["n_from_diagram"]) == [0, 1, 0]
+    row = merged.matches.query("setup == 's2' and mode == 2")
+    assert list(row["source"]) == ["diagram"] and list(row["setup_mode"]) == [0] and list(row["damping"]) == [0.012]
+    assert merged.modes["freq_hz"].iloc[1] == pytest.approx(np.mean([results[0].modes["freq_hz"].iloc[1],
+                                                                    results[2].modes["freq_hz"].iloc[1]]))
+    rows, merged_shape = _merged_shape(merged, 2)
+    exact = truth[[NODES.index(node) for node in rows.index], 1]
+    assert set(rows.index) >= {"n2", "n3"}  # setup 2's roving nodes
+    assert modal.mac(merged_shape.to_numpy()[:, None], exact[:, None])[0, 0] > 0.9999
+
+
+def test_one_setup_without_references_gives_its_own_modes():
+    truth = _truth()
+    setups, results = _setups(1, truth)
+    table = setups[0].channels.assign(role="roving")
+    setups = [Setup("alone", setups[0].record, table)]
+    merged = merge_setups(setups, results)
+    assert len(merged.modes) == 3 and (merged.modes["n_setups"] == 1).all()
+    assert merged.matches["ref_mac"].isna().all() and merged.modes["ref_mac"].isna().all()
+    assert merged.disagreements.empty and list(merged.matches["setup_mode"]) == [1, 2, 3]
+    for k in range(3):
+        rows, shape = _merged_shape(merged, k + 1)
+        exact = truth[[NODES.index(node) for node in rows.index], k]
+        ratio = shape.to_numpy() / exact
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
