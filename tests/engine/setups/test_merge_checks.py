@@ -365,3 +365,51 @@ def test_one_setup_without_references_gives_its_own_modes():
         exact = truth[[NODES.index(node) for node in rows.index], k]
         ratio = shape.to_numpy() / exact
         np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+
+
+def test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes():
+    """Node n0 moves 3 x as much as the truth says (a miscalibrated sensor)
+    in every mode: on a geometry whose lines and links join it to n1 and
+    r1, it is flagged in each mode and the others are normalised without
+    it (their largest component 1)."""
+    from modal.setups import Geometry
+
+    truth = _truth()
+    truth[NODES.index("n0")] *= 3 * np.abs(truth).max() / np.abs(truth[NODES.index("n0")])
+    setups, results = _setups(5, truth)
+    nodes = pd.DataFrame({"x": np.arange(len(NODES), dtype=float), "y": 0.0, "z": 0.0},
+                         index=pd.Index(NODES, name="node"))
+    links = pd.DataFrame({"parent": ["r1"], "child": ["n0"], "px": [0.0], "py": [0.0], "pz": [1.0], "cx": [0.0],
+                          "cy": [0.0], "cz": [1.0]})
+    geometry = Geometry(nodes, [("n0", "n1")], links)
+    merged = merge_setups(setups, results, geometry=geometry)
+    flagged = merged.shapes[merged.shapes["flag"] != ""]
+    assert list(flagged["node"]) == ["n0"] * 3 and (merged.modes["n_flagged"] == 1).all()
+    assert flagged["flag"].str.contains("node linked to it").all()
+    others = merged.shapes[merged.shapes["flag"] == ""]
+    assert others.groupby("mode")["z"].apply(lambda z: np.abs(z).max()).to_numpy() == pytest.approx(1.0)
+    assert (np.abs(flagged["z"]) > 1.8).all()
+    unlinked = merge_setups(setups, results, geometry=Geometry(nodes, [("n0", "n1")]))
+    assert unlinked.modes["n_flagged"].sum() == 3  # n1 alone, far smaller, still tells
+    alone = merge_setups(setups, results, geometry=Geometry(nodes))
+    assert alone.modes["n_flagged"].sum() == 0  # no node linked to it: nothing to compare with
+
+
+def test_frequency_uncertainty_and_tolerance():
+    from modal.setups._agreement import RTOL_MAX, RTOL_MIN, RTOL_UNKNOWN, relative_uncertainty, tolerance
+
+    modes = pd.DataFrame({"freq_hz": [2.0, 4.0, 5.0], "freq_std_hz": [0.02, np.nan, 0.0]})
+    np.testing.assert_allclose(relative_uncertainty(modes), [0.01, RTOL_UNKNOWN, RTOL_UNKNOWN])
+    np.testing.assert_allclose(relative_uncertainty(modes[["freq_hz"]]), [RTOL_UNKNOWN] * 3)
+    assert tolerance(0.003, 0.004) == pytest.approx(0.015)
+    assert tolerance(1e-5, 0.0) == RTOL_MIN and tolerance(0.5, 0.5) == RTOL_MAX
+
+
+def test_a_constant_frequency_ratio_is_found():
+    from modal.setups._agreement import rate_ratio
+
+    ratio, lined, at_one = rate_ratio([2.5, 4.8, 7.7, 9.9], [5.0, 9.6, 15.4, 19.8, 30.0])
+    assert ratio == pytest.approx(0.5, rel=1e-3) and lined == 4 and at_one == 0
+    assert rate_ratio([5.0, 9.6, 15.4], [5.01, 9.6, 15.42])[1:] == (3, 3)
+    assert rate_ratio([], [1.0]) == (1.0, 0, 0) and rate_ratio([1.0], []) == (1.0, 0, 0)
+    assert rate_ratio([1.0, 2.0], [10.0, 20.0])[1] == 0  # beyond 5 x: not a rate
