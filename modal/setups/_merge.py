@@ -127,6 +127,14 @@ def check_setups(setups) -> list[tuple]:
             raise ValueError(f"setup {s.name}: its reference channels differ from setup {setups[0].name}'s: "
                              + (f"missing {say(missing)}" if missing else "")
                              + ("; " if missing and extra else "") + (f"extra {say(extra)}" if extra else ""))
+    seen = {}
+    for s in setups:  # a setup given twice, e.g. through a symbolic link, would count as two
+        path = getattr(s.record, "path", None)
+        if path is not None:
+            first = seen.setdefault(Path(path).resolve(), s.name)
+            if first != s.name:
+                raise ValueError(f"setups {first} and {s.name} are one record ({Path(path).resolve()}): "
+                                 "give each setup once")
     return keys
 
 

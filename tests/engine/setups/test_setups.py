@@ -485,3 +485,15 @@ def test_geometry_files_name_the_bad_row(tmp_path):
     (signs / "sens_sign.txt").write_text((signs / "sens_sign.txt").read_text().replace("-1", "minus", 1))
     with pytest.raises(ValueError, match=r"sens_sign.txt: point 1, column x: 'minus' is not a sign: expected 1 or -1"):
         read_geometry(signs)
+
+
+def test_a_setup_given_twice_through_a_link_is_refused(tmp_path):
+    """setup_1 and a symbolic link to it would merge as two setups that
+    always agree."""
+    (tmp_path / "again").symlink_to(DATA / "roving_plate" / "setup_1")
+    setups = [read_setup(DATA / "roving_plate" / "setup_1"), read_setup(DATA / "roving_plate" / "setup_2"),
+              read_setup(tmp_path / "again")]
+    with pytest.raises(ValueError, match=r"setups setup_1 and again are one record \(.*setup_1/record.npz\): give "
+                                         r"each setup once"):
+        modal.check_setups(setups)
+    assert modal.check_setups(setups[:2])
