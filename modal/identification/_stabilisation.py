@@ -827,14 +827,13 @@ def _join_split_clusters(clusters, order, distance, merge_distance):
     member[np.arange(len(clusters)), index] = 1.0
     sums = member.T @ distance @ member
     size = member.sum(axis=0)
-    _, order_index = np.unique(order, return_inverse=True)
-    present = np.zeros((k, order_index.max() + 1 if len(order) else 0), dtype=bool)
+    orders, order_index = np.unique(order, return_inverse=True)
+    present = np.zeros((k, len(orders)), dtype=bool)
     present[index, order_index] = True
     alive = np.ones(k, dtype=bool)
     upper = np.triu(np.ones((k, k), dtype=bool), 1)
     while True:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            mean = sums / np.outer(size, size)
+        mean = sums / np.outer(size, size)  # a joined cluster keeps its size: never 0 / 0
         shared = (present.astype(int) @ present.T.astype(int)) > 0
         open_pair = upper & ~shared & alive[:, None] & alive[None, :] & (mean < merge_distance)
         if not open_pair.any():
