@@ -13,8 +13,10 @@ min_version("8.0")
 import sys
 import modal.thesis.config
 
-modal.thesis.config.check_config_files(
-    ["config/config.yaml", *workflow.configfiles], sys.argv
+modal.thesis.config.check_or_exit(
+    modal.thesis.config.check_config_files,
+    ["config/config.yaml", *workflow.configfiles],
+    sys.argv,
 )
 
 
@@ -25,7 +27,8 @@ configfile: "config/config.yaml"
 # and figure numbers normalised, numbers finite, the schema (integers are
 # integers), then cross-checks, paths, a measured record, the plan's size and
 # the run's name (modal.thesis.config).
-modal.thesis.config.check_workflow_config(
+modal.thesis.config.check_or_exit(
+    modal.thesis.config.check_workflow_config,
     config,
     ["config/config.yaml", *workflow.configfiles],
     "workflow/schemas/config.schema.yaml",

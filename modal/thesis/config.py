@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import sys
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -119,6 +120,17 @@ def configfile_options(argv: Sequence[str]) -> list[list[str]]:
         elif current is not None:
             current.append(arg)
     return given
+
+
+def check_or_exit(check, *args) -> None:
+    """For the Snakefile: ``check(*args)``, and a refusal (``ValueError``)
+    printed as its message with exit 2, as ``workflow/regenerate.sh``'s
+    pre-check does, instead of Snakemake's traceback of the Snakefile."""
+    try:
+        check(*args)
+    except ValueError as exc:
+        print(f"refused: {exc}", file=sys.stderr)
+        raise SystemExit(2) from None
 
 
 def check_workflow_config(config: dict, configfiles, schema) -> None:

@@ -353,8 +353,10 @@ def test_changed_config_without_run_name_refused_by_snakemake(tmp_path):
     for args in (["init", "-q"], ["add", "results"], ["-c", "user.name=t", "-c", "user.email=t@t", "commit", "-qm", "t"]):
         subprocess.run(["git", *args], cwd=work, check=True, capture_output=True)
     proc = run_snakemake(work, "-n", "--configfile", SMALL_CONFIG_FILE, check=False)
-    assert proc.returncode != 0
+    assert proc.returncode == 2
     assert "--config run=<name>" in proc.stdout + proc.stderr
+    # plain snakemake too: the refusal and exit 2, no traceback
+    assert 'File "' not in proc.stderr and "ValueError" not in proc.stderr, proc.stderr[-2000:]
 
 
 # --- 8. roving tests: setups with their geometry, no channels or refs of their own ----------
