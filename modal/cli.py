@@ -215,6 +215,13 @@ def _logger(args):
     return log
 
 
+def _wrote(out: Path) -> str:
+    """What the results folder holds, every file named (it is written
+    whole: what is there is what this run wrote)."""
+    names = sorted(p.name + ("/" if p.is_dir() else "") for p in out.iterdir())
+    return f"wrote {out}/: {', '.join(names)}"
+
+
 def _written(args, call, subject=""):
     """Run ``call`` (which identifies and writes ``--out``); returns its value
     and None, or None and the exit code of its failure (message printed)."""
@@ -303,8 +310,7 @@ def _identify(args) -> int:
     if code is not None:
         return code
     result = written[0]
-    log(f"wrote {args.out / 'modes.csv'}, poles.csv, stabilisation.png, mac.csv, settings.json and "
-        f"{args.out / 'report.html'}")
+    log(_wrote(args.out))
     modes, trusted = result.modes, result.trusted_modes  # doubtful modes (a flag) stay in modes.csv only
     doubtful = modes[~modes.index.isin(trusted.index)]
     print(f"{args.path.name}: {len(trusted)} modes ({options.max_order // 2} orders, {len(result.poles)} poles)"
@@ -346,8 +352,7 @@ def identify_setups(args, options) -> int:
     if code is not None:
         return code
     merged, results = written
-    log(f"wrote {args.out / 'modes.csv'}, shapes.csv, settings.json, each setup's results in setups/ and "
-        f"{args.out / 'report.html'}")
+    log(_wrote(args.out))
     modes = merged.modes
     print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
           f"{modal.setups.required_setups(len(setups), args.min_setups)} setups); shapes at "

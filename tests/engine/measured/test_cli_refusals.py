@@ -211,11 +211,16 @@ def test_a_record_whose_name_is_not_utf8_is_identified_and_drawn(tmp_path):
     os.rename(os.path.join(folder, b"r.npy"), os.path.join(folder, b"rec_\xe9.npy"))
     (record,) = [p for p in tmp_path.iterdir() if p.name.startswith("rec_")]
     # the command prints the name as the file system holds it (byte 0xe9), as ls does
-    run = subprocess.run([sys.executable, "-m", "modal", "identify", record, *PALISADEN_OPTIONS, "--out",
-                          tmp_path / "out"], capture_output=True, text=True, errors="surrogateescape", timeout=300)
+    options = [o for o in PALISADEN_OPTIONS if o != "--quiet"]
+    run = subprocess.run([sys.executable, "-m", "modal", "identify", record, *options, "--out", tmp_path / "out"],
+                         capture_output=True, text=True, errors="surrogateescape", timeout=300)
     assert run.returncode == 0, run.stderr
     assert "Traceback" not in run.stderr and (tmp_path / "out" / "stabilisation.png").is_file()
     assert "rec_\ufffd.npy" in (tmp_path / "out" / "report.html").read_text(encoding="utf-8")
+    # the log names every file written, no more
+    (wrote,) = [line for line in run.stderr.splitlines() if " wrote " in line]
+    written = sorted(p.name for p in (tmp_path / "out").iterdir())
+    assert wrote.split(f"wrote {tmp_path / 'out'}/: ")[1].split(", ") == written and "report.html" in written
 
 
 def test_printable_replaces_only_undecodable_bytes():
