@@ -152,9 +152,18 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     return config, index
 
 
+def channel_units(record) -> list:
+    """The unit each channel of ``record`` declares (a UFF's or LVM's unit
+    label, lower case, spaces dropped), None where the file names none."""
+    units = record.channels["unit"] if "unit" in record.channels else [None] * record.acc.shape[1]
+    return [None if u is None or (isinstance(u, float) and u != u) or not str(u).strip()
+            else str(u).strip().lower().replace(" ", "") for u in units]
+
+
 def _layout(path, options, index) -> dict | None:
-    """The channel count and sampling rate of the campaign's first record
-    that reads (``record``, ``n_channels``, ``fs``), which every record must
+    """The channel count, sampling rate and channel units of the campaign's
+    first record that reads (``record``, ``n_channels``, ``fs``, ``units``:
+    :func:`channel_units`), which every record must
     share (:func:`modal.campaign.identify_one` fails one that does not), or
     None when none reads. Options that record cannot take (fmax above its
     Nyquist frequency, a channel it lacks:
@@ -171,7 +180,8 @@ def _layout(path, options, index) -> dict | None:
         problems = options.record_problems(record.acc.shape[1], record.fs)
         if problems:
             raise ValueError(f"{path}: identify.{problems[0]} (record {name}, the first that reads)")
-        return {"record": name, "n_channels": int(record.acc.shape[1]), "fs": float(record.fs)}
+        return {"record": name, "n_channels": int(record.acc.shape[1]), "fs": float(record.fs),
+                "units": channel_units(record)}
     return None
 
 

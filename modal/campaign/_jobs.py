@@ -26,6 +26,7 @@ def identify_one(path, options, layout: dict | None = None):
     logger reconfigured) is refused before identification."""
     from ..measured import identify_options, identify_record
     from ..records import read_record
+    from ._config import channel_units
 
     options = identify_options(options)
     record = read_record(path, options.fs)
@@ -37,6 +38,12 @@ def identify_one(path, options, layout: dict | None = None):
         if not math.isclose(record.fs, layout["fs"], rel_tol=1e-9):
             raise ValueError(f"sampled at {record.fs:g} Hz, the campaign's records at {layout['fs']:g} Hz "
                              f"(as {layout['record']})")
+        units, expected = channel_units(record), layout.get("units") or [None] * n_channels
+        differ = [c for c, (u, e) in enumerate(zip(units, expected)) if u and e and u != e]
+        if differ:
+            c = differ[0]
+            raise ValueError(f"channel {c} in {units[c]}, the campaign's records in {expected[c]} "
+                             f"(as {layout['record']}): the shapes would mix units")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # "no mode selected" and the like: the table says it
         result, _ = identify_record(record.acc, record.dt, options)

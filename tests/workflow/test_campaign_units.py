@@ -51,7 +51,7 @@ def test_a_campaign_read_with_its_defaults_and_layout(folder):
     config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
     assert config["tracking"] == {"reference_modes": None, "freq_rtol": 0.05, "mac_min": 0.8, "min_share": 0.3}
     assert config["chunk"] == 50
-    assert config["layout"] == {"record": "a.npz", "n_channels": 3, "fs": 20.0}
+    assert config["layout"] == {"record": "a.npz", "n_channels": 3, "fs": 20.0, "units": [None] * 3}
     assert config["identify"] == modal.IdentifyOptions(excitation="ambient").to_dict()
     assert list(index.columns) == ["record", "path", "time"]
     assert list(index["record"]) == ["a.npz", "b.npz"]
@@ -269,6 +269,33 @@ def test_a_chunk_writes_each_mode_and_each_failure(folder, stand_in, tmp_path):
     assert list(pd.read_csv(failed_csv)["record"]) == ["broken"]
     identify_chunk(records.iloc[:2], config["identify"], modes_csv, failed_csv)
     assert failed_csv.read_text() == "record,reason\n"  # none failed: a header still
+
+
+def _lvm(path, unit, n=400):
+    """A one-channel LabVIEW record at 20 Hz whose header names its unit."""
+    header = ("LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\nDecimal_Separator\t.\n"
+              "Multi_Headings\tNo\nX_Columns\tOne\nTime_Pref\tRelative\nOperator\tx\n***End_of_Header***\t\n\t\n"
+              f"Channels\t1\t\nSamples\t{n}\t\nY_Unit_Label\t{unit}\t\nX_Dimension\tTime\t\n"
+              "X0\t0.0000000000000000E+0\t\nDelta_X\t0.05\t\n***End_of_Header***\t\t\nX_Value\tAcceleration\tComment\n")
+    rng = np.random.default_rng(len(str(path)))
+    path.write_text(header + "".join(f"{0.05 * i:.2f}\t{v:.6E}\n" for i, v in enumerate(rng.standard_normal(n))))
+    return path
+
+
+def test_a_record_in_other_units_fails_naming_them(tmp_path, stand_in):
+    """A logger switched from g to m/s^2: the record fails with both units
+    (its shapes would mix units); the same unit in other case does not."""
+    for name, unit in (("a", "g"), ("b", "m/s^2"), ("c", "G")):
+        _lvm(tmp_path / f"{name}.lvm", unit)
+    (tmp_path / "i.csv").write_text("path,time\na.lvm,2025-01-01\nb.lvm,2025-01-02\nc.lvm,2025-01-03\n")
+    config, _ = read_campaign(write(tmp_path, "records: {index: i.csv}\n" + IDENTIFY))
+    assert config["layout"]["units"] == ["g"]
+    with pytest.raises(ValueError, match=r"^channel 0 in m/s\^2, the campaign's records in g \(as a.lvm\): the "
+                                         r"shapes would mix units$"):
+        identify_one(tmp_path / "b.lvm", config["identify"], config["layout"])
+    assert identify_one(tmp_path / "c.lvm", config["identify"], config["layout"]) is not None
+    npz = dict(config["layout"], units=[None])  # a record that names no unit is not compared
+    assert identify_one(tmp_path / "b.lvm", config["identify"], npz) is not None
 
 
 def test_the_rate_is_compared_to_one_part_in_a_billion(folder, stand_in):
