@@ -267,7 +267,7 @@ class Stabilisation:
     def trusted_modes(self) -> pd.DataFrame:
         """The modes without a ``flag``: those to print and to believe
         without a second look (the others stay in :attr:`modes`)."""
-        return self.modes[self.modes["flag"].fillna("") == ""]
+        return self.modes[self.modes["flag"] == ""]
 
     def plot(self, fmax=None, title=None, ax=None):
         """The stabilisation diagram; see :func:`modal.stabilisation_figure`."""

@@ -444,3 +444,122 @@ def test_modes_of_mpc_exactly_at_the_threshold_set_the_damping_median():
     modes = mode_table([0.7, 0.7, 0.3, 0.3], [1.0] * 4, [0.01, 0.01, 0.06, 0.06])
     flags = _flags(modes, np.ones((3, 4)), modal.StabilityCriteria())
     assert flags == ["", ""] + ["low MPC 0.30; damping 6 % implausible (median 1 %)"] * 2
+
+
+def test_a_pole_just_beyond_the_shape_scatter_leaves():
+    """As in the test above, a pole tilted 0.08 from the mode's shape (1 -
+    MAC about 6e-3, twice the median plus three robust standard deviations
+    of the others') leaves the mode; the scatter is that of the misfits about
+    their median, not of the misfits plus it."""
+    rng = np.random.default_rng(8)
+    directions = rng.standard_normal((20, 3))
+    directions -= (directions @ A)[:, None] * A / (A @ A)
+    directions /= np.linalg.norm(directions, axis=1)[:, None]
+    tilt = np.abs(rng.normal(0.03, 0.015, 20))
+    tilt[7] = 0.08
+    shapes = A / np.linalg.norm(A) + tilt[:, None] * directions
+    criteria = modal.StabilityCriteria(cluster_distance=0.005, merge_distance=0.5, mac_min=0.9999)
+    labels, modes = spread_out(0.01, shapes, criteria)
+    assert labels[7] == 0 and modes["n_poles"].tolist() == [19, 20]
+
+
+def test_a_two_pole_clusters_scatter_is_its_one_pair():
+    """Clusters of two poles each, min_poles 2: A's two shapes 1 - MAC 1e-3
+    apart, B's two alike and halfway between A's (2.5e-4 from each), 0.3 %
+    above A within its half-power band: B's shape lies within A's scatter
+    (its only pair): one mode with a second estimate, not two modes."""
+    tilt = np.sqrt(1e-3)
+    side = np.array([0.2, -0.5, 0.9])
+    side -= side @ A / (A @ A) * A
+    side /= np.linalg.norm(side)
+    unit = A / np.linalg.norm(A)
+    a_shapes = np.array([unit, unit + tilt * side])
+    b_shapes = np.array([unit + tilt / 2 * side] * 2)
+    table, shapes = poles([(10.0, 0.01, a_shapes, [2, 4]), (10.03, 0.01, b_shapes, [2, 4])])
+    criteria = modal.StabilityCriteria(cluster_distance=0.0015, merge_distance=0.002)
+    _, modes, _, _, _ = _select_modes(table, shapes, criteria, 2)
+    assert len(modes) == 1  # as many poles each: which is the row is the clusters' order
+    assert sorted([modes["freq_hz"][0], modes["second_freq_hz"][0]]) == pytest.approx([10.0, 10.03])
+
+
+def test_the_half_power_band_is_the_wider_of_the_two():
+    """One shape, 0.2 Hz apart at 10 Hz: one damped 0.5 % (band 0.05 Hz), the
+    other 3 % (0.3 Hz): one peak, whichever of the two is the larger; at
+    exactly the band (8 and 8.25 Hz, 3.125 % of 8 Hz = 0.25 Hz) still one."""
+    criteria = modal.StabilityCriteria(cluster_distance=0.005)
+    for damping_a, damping_b in ((0.005, 0.03), (0.03, 0.005)):
+        table, shapes = poles([(10.0, damping_a, A, ORDERS), (10.2, damping_b, A, ORDERS[4:])])
+        _, modes, _, _, _ = _select_modes(table, shapes, criteria, 8)
+        assert len(modes) == 1, (damping_a, damping_b)
+    table, shapes = poles([(8.0, 0.03125, A, ORDERS), (8.25, 0.001, A, ORDERS[4:])])
+    _, modes, _, _, _ = _select_modes(table, shapes, criteria, 8)
+    assert modes["second_freq_hz"].tolist() == [8.25]
+
+
+def test_a_second_estimate_between_two_modes_goes_to_the_first_of_them():
+    """Modes at 8.0 (20 poles) and 8.5 Hz (18 poles), one shape, damped 0.5 %
+    (two peaks); a 12-pole cluster at 8.25 Hz damped 4 %, 0.25 Hz from each:
+    the second estimate of the larger mode, 8 Hz, not of both or the other."""
+    table, shapes = poles([(8.0, 0.005, A, ORDERS), (8.5, 0.005, A, ORDERS[2:]), (8.25, 0.04, A, ORDERS[8:])])
+    _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(cluster_distance=0.005), 8)
+    assert modes["freq_hz"].tolist() == [8.0, 8.5]
+    assert modes["second_freq_hz"].fillna(0).tolist() == [8.25, 0]
+
+
+def test_the_shadow_flag_names_the_strongest_and_its_bounds_are_exact():
+    """Three modes of one shape within 2 %: the weakest is the shadow of the
+    one with most poles (not of the last listed); of two with as many poles,
+    of the lower. Exactly 2 % apart (49 and 50 Hz) is not close."""
+    criteria = modal.StabilityCriteria()
+    alike = np.ones((3, 3))
+    modes = mode_table([1.0] * 3, [1.0] * 3, [0.01] * 3).assign(freq_hz=[4.2, 4.25, 4.22], n_poles=[30, 20, 10])
+    flags = _flags(modes, np.ones((3, 3)), criteria, alike)
+    assert flags == ["", "same shape as 4.2 Hz (MAC 1.000)", "same shape as 4.2 Hz (MAC 1.000)"]
+    tied = modes.assign(n_poles=[30, 30, 10])
+    assert _flags(tied, np.ones((3, 3)), criteria, alike)[2] == "same shape as 4.2 Hz (MAC 1.000)"
+    edge = mode_table([1.0] * 2, [1.0] * 2, [0.01] * 2).assign(freq_hz=[49.0, 50.0], n_poles=[30, 10])
+    assert _flags(edge, np.ones((3, 2)), criteria, np.ones((2, 2))) == ["", ""]
+
+
+def test_damping_bounds_and_the_share_are_inclusive():
+    """Two modes are enough to judge damping (1 % and 0.01 %: the second
+    flagged). Exactly a fifth or five times the median is plausible; a
+    channel's share exactly 0.95 (361 of 380) is 'single channel'."""
+    criteria = modal.StabilityCriteria()
+    two = mode_table([1.0, 1.0], [1.0, 1.0], [0.01, 0.0001])
+    assert _flags(two, np.ones((3, 2)), criteria)[1].startswith("damping 0.01 % implausible")
+    edges = mode_table([1.0] * 4, [1.0] * 4, [0.05, 0.05, 0.01, 0.25])
+    assert _flags(edges, np.ones((3, 4)), criteria) == ["", "", "", ""]
+    modes = mode_table([1.0], [1.0], [0.01])
+    assert _flags(modes, np.array([[19.0], [3.0], [3.0], [1.0]]), criteria) == ["single channel"]
+
+
+def test_notes_name_doubtful_modes_second_estimates_and_lists():
+    """The notes of a selection: a doubtful mode with its reason, a second
+    estimate, candidates and clusters above fmax listed with ', '; with fmax
+    and nothing above it, no note about it."""
+    from modal.identification._stabilisation import _notes
+
+    table, shapes = poles([(2.0, 0.01, A, ORDERS), (2.002, 0.02, A, ORDERS[4:]), (5.0, 0.0004, B, ORDERS),
+                           (7.0, 0.01, B, ORDERS[:5]), (8.0, 0.01, A, ORDERS[:5]), (12.0, 0.01, A, ORDERS),
+                           (13.0, 0.01, B, ORDERS)])
+    _, modes, _, candidates, above = _select_modes(table, shapes, modal.StabilityCriteria(), 8, limit=10.0)
+    notes = _notes(modes, candidates, above, 10.0)
+    assert notes == (
+        "mode 1 (2 Hz) has a second estimate at 2.002 Hz, damping 2 %: a cluster of the same shape at the same "
+        "orders, one physical mode",
+        "mode 2 (5 Hz) is doubtful: damping 0.04 % implausible (median 0.52 %) (kept in the modes table with its flag)",
+        "not selected, too few poles (a mode needs 8, the orders computed and fmax set how many): 7 Hz (5 poles), "
+        "8 Hz (5 poles)",
+        "not selected, above fmax = 10 Hz: 12 Hz (20 poles), 13 Hz (20 poles)")
+    assert not any("above fmax" in n for n in _notes(modes, candidates, above.iloc[:0], 10.0))
+
+
+def test_joining_leaves_the_callers_labels_alone():
+    from modal.identification._stabilisation import _join_split_clusters
+
+    clusters = np.array([1, 1, 2, 2])
+    distance = np.full((4, 4), 0.01)
+    np.fill_diagonal(distance, 0)
+    joined = _join_split_clusters(clusters, np.array([2, 4, 6, 8]), distance, 0.04)
+    assert joined.tolist() == [1, 1, 1, 1] and clusters.tolist() == [1, 1, 2, 2]
