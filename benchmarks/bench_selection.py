@@ -49,16 +49,12 @@ MINUTES = (2, 20)
 
 
 def chain(masses, stiffnesses):
-    """Mass and stiffness matrices of a fixed-free chain."""
+    """Mass and stiffness matrices of a fixed-free chain: storey ``i``
+    joins floor ``i`` to the one below (the ground below the first), so
+    ``K = D^T diag(k) D`` with ``D x`` the storey drifts."""
     n = len(masses)
-    k = np.zeros((n, n))
-    for i, ki in enumerate(stiffnesses):
-        k[i, i] += ki
-        if i > 0:
-            k[i - 1, i - 1] += ki
-            k[i - 1, i] -= ki
-            k[i, i - 1] -= ki
-    return np.diag(masses), k
+    drift = np.eye(n) - np.eye(n, k=-1)
+    return np.diag(masses), drift.T @ np.diag(stiffnesses) @ drift
 
 
 def proportional(m, k, zeta):
