@@ -184,8 +184,8 @@ def run(records: int, seed: int = 0) -> pd.DataFrame:
 
 def summary(table: pd.DataFrame) -> pd.DataFrame:
     sums = table.groupby(["kind", "minutes"], sort=False)[
-        ["true", "found", "spurious", "duplicate", "flagged_real", "flagged_real_witness", "flagged_spurious", "cover_n", "cover_f",
-         "cover_d"]].sum()
+        ["true", "found", "spurious", "duplicate", "flagged_real", "flagged_real_witness", "flagged_spurious",
+         "cover_n", "cover_f", "cover_d"]].sum()
     total = sums.sum().to_frame("all").T
     sums = pd.concat([sums, total.set_index(pd.MultiIndex.from_tuples([("all", "")]))])
     sums["freq_coverage"] = (sums["cover_f"] / sums["cover_n"]).round(3)

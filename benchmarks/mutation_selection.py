@@ -41,7 +41,8 @@ machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
         "test_select_modes_small_tables", "test_select_modes_medoid_is_the_central_pole",
         "test_select_modes_candidates_need_half_of_min_poles", "test_select_modes_cut_at_cluster_distance",
         "test_select_modes_same_order_poles_never_share_a_cluster", "test_select_modes_spread_and_candidate_table",
-        "test_select_modes_cuts_by_distance_and_sorts_candidates", "test_join_split_clusters_nearest_pair_among_many")] + [
+        "test_select_modes_cuts_by_distance_and_sorts_candidates",
+        "test_join_split_clusters_nearest_pair_among_many")] + [
     SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults",
     "tests/engine/measured/test_uncertainty.py"]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_selection_equivalent.txt"

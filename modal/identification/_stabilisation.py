@@ -228,8 +228,9 @@ class Stabilisation:
         found = f"{len(poles)} poles over {n_orders} orders, {int(stable.sum())} stable in frequency"
         if not stable.any():
             return (f"{found}: no pole recurs from one order to the next (within {criteria.freq_rtol:.0%} in "
-                    "frequency), as for a record of noise alone. What could help: check that the record holds the response of "
-                    "the structure; with a known band, --fmax (and --highpass against a drift); more samples")
+                    "frequency), as for a record of noise alone. What could help: check that the record holds the "
+                    "response of the structure; with a known band, --fmax (and --highpass against a drift); more "
+                    "samples")
         if not candidates.any():
             s = poles[stable]
             with np.errstate(invalid="ignore"):
@@ -487,8 +488,8 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     left singular vectors of its ``H(0)`` (Eq. 35) at the highest order
     among the mode's poles (the fullest model that holds it; a low order's
     basis leaves other modes out, and the segments' eigenvalues then scatter
-    with that bias), from its pole there nearest the mode's mean frequency. With ``H_k(0)``, ``H_k(1)``
-    built from segment ``k`` as in Eq. (34),
+    with that bias), from its pole there nearest the mode's mean frequency.
+    With ``H_k(0)``, ``H_k(1)`` built from segment ``k`` as in Eq. (34),
     ``A_k = (U^T H_k(1)) (U^T H_k(0))^+`` is segment ``k``'s state matrix in
     that basis (``U^T H(0) = T C`` and ``U^T H(1) = T A C`` for an exact
     model, so ``A_k = T A T^-1``); its eigenvalue nearest the mode's pole
@@ -584,10 +585,11 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     4. Clusters of at least ``min_poles`` poles below ``limit`` (Hz) are
        modes; those above are reported apart; smaller ones of at least half
        as many (and two) are candidates.
-    5. A mode with fewer poles than another whose shape it shares (the median ``1 - MAC`` between their poles within the larger
-       of the two clusters' own scatter, :func:`_shape_scatter`) and whose frequency lies within the half-power half-width
-       (``zeta f``) of either is the same physical mode estimated twice at the
-       same orders: it becomes that mode's ``second_freq_hz`` and
+    5. A mode with fewer poles than another whose shape it shares (the
+       median ``1 - MAC`` between their poles within the larger of the two
+       clusters' own scatter, :func:`_shape_scatter`) and whose frequency
+       lies within the half-power half-width (``zeta f``) of either is the
+       same physical mode estimated twice at the same orders: it becomes that mode's ``second_freq_hz`` and
        ``second_damping``, its poles carry that mode's number. Modes of
        different shapes, however close, stay apart.
     6. Modes are numbered by frequency and flagged (:func:`_flags`;
