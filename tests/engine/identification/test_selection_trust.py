@@ -563,3 +563,12 @@ def test_joining_leaves_the_callers_labels_alone():
     np.fill_diagonal(distance, 0)
     joined = _join_split_clusters(clusters, np.array([2, 4, 6, 8]), distance, 0.04)
     assert joined.tolist() == [1, 1, 1, 1] and clusters.tolist() == [1, 1, 2, 2]
+
+
+def test_the_larger_second_estimate_is_stated_whichever_side_it_lies():
+    """As above with the sides swapped: 16 poles at 9.995 Hz, 12 at 10.01 Hz:
+    9.995 Hz is the second estimate."""
+    table, shapes = poles([(10.0, 0.01, A, ORDERS), (9.995, 0.02, A, ORDERS[4:]), (10.01, 0.03, A, ORDERS[8:])])
+    _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(cluster_distance=1e-4), 8)
+    assert modes["second_freq_hz"].tolist() == pytest.approx([9.995])
+    assert modes["second_damping"].tolist() == pytest.approx([0.02])
