@@ -115,7 +115,8 @@ def cera(y, dt, n_modes, cols, start=0, singular_values=None, eigenproblem="symm
     h0, h1 = h_ext[:l], h_ext[l:]
     p, sv, qt = np.linalg.svd(h0, full_matrices=False)
     if sv[kept - 1] <= sv[0] * np.finfo(float).eps * max(h0.shape):
-        raise ValueError(f"singular_values = {kept}: H_c has fewer than {kept} non-zero singular values")
+        named = "n_modes" if singular_values is None else "singular_values"  # the argument the caller gave
+        raise ValueError(f"{named} = {kept}: H_c has fewer than {kept} non-zero singular values")
     p, d, qt = p[:, :kept], sv[:kept], qt[:kept]
     if eigenproblem == "symmetrised":
         lagged = (p.T @ h1 @ qt.T) * d[None, :]  # P^T R_1 P, as P^T H_c(k+1) Q D

@@ -259,6 +259,8 @@ def test_rank_deficient_data_are_refused_before_realisation():
     flagged(modal.cera, dependent, dt, 2, cols=600)
     with pytest.raises(ValueError, match=r"^n_modes = 3: H_c has fewer than 3 non-zero singular values"):
         flagged(modal.cera, dependent, dt, 3, cols=600)
+    with pytest.raises(ValueError, match=r"^singular_values = 3: H_c has fewer than 3 non-zero singular values"):
+        flagged(modal.cera, dependent, dt, 2, cols=600, singular_values=3)
     one_mode = np.column_stack([np.sin(2 * np.arange(400) * 0.05), -0.3 * np.sin(2 * np.arange(400) * 0.05)])
     with pytest.raises(ValueError, match=r"^n_modes = 2: the Hankel matrix has fewer than 4"):
         flagged(modal.era, one_mode, 0.05, 2, rows=10, cols=100)
