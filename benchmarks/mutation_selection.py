@@ -43,8 +43,11 @@ machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
         "test_select_modes_same_order_poles_never_share_a_cluster", "test_select_modes_spread_and_candidate_table",
         "test_select_modes_cuts_by_distance_and_sorts_candidates",
         "test_join_split_clusters_nearest_pair_among_many")] + [
-    SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults",
-    "tests/engine/measured/test_uncertainty.py"]}
+    SELECTION + "test_a_mode_split_across_orders_is_joined", SELECTION + "test_documented_defaults"] + [
+    "tests/engine/measured/test_uncertainty.py::" + t for t in (  # the fast ones: not the 40-record coverage
+        "test_segments_that_agree_give_no_uncertainty", "test_two_segments_a_percent_apart",
+        "test_two_segments_damped_ten_percent_apart", "test_a_segment_without_an_estimate_is_not_counted",
+        "test_each_mode_takes_its_own_eigenvalue_when_modes_are_close")]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_selection_equivalent.txt"
 
 if __name__ == "__main__":
