@@ -146,8 +146,8 @@ def setup_disagreements(setups, results, keys, ref_rows) -> pd.DataFrame:
             overall = np.median(difference)
             found["reference levels"][a, b] = np.exp(overall)
             verdicts["reference levels"][a, b] = abs(overall) > np.log(LEVEL_MAX)
-            if len(keys) > 1:
-                spread = np.max(np.abs(difference - overall))
+            if len(keys) > 1:  # the largest ratio between two reference channels' level ratios
+                spread = np.ptp(difference)
                 found["reference ratio"][a, b] = np.exp(spread)
                 verdicts["reference ratio"][a, b] = spread > np.log(LEVEL_RATIO_MAX)
             macs = _paired_ref_macs(results[a], ref_rows[a], results[b], ref_rows[b])

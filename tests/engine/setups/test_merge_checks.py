@@ -5,6 +5,7 @@ out, matching that follows the modes' own scatter, the majority rule, a
 robust normalisation and the complex rescaling checked on synthetic
 identifications (no identification is run where none is needed)."""
 
+import re
 import shutil
 from pathlib import Path
 from types import SimpleNamespace
@@ -175,6 +176,17 @@ def _spoil(setups, results, s, how):
     setups[s] = Setup(setup.name, MeasuredRecord(acc, setup.record.dt), setup.channels)
 
 
+EVIDENCE = {
+    "unit slip": r"its reference channels record [0-9.]+e-0[67] x the level of (2 of 2|4 of 4) other setup\(s\) \(s1, s3",
+    "swapped references": r"the reference part of its modes disagrees with that of (2 of 2|4 of 4) other setup\(s\) "
+                          r"\(s1, s3.*\) \(median MAC 0\.[0-8]\d over the modes paired by frequency\): swapped",
+    "wrong rate": r"its frequencies are 0\.5(000|001)? x those of (2 of 2|4 of 4) other setup\(s\)",
+    "one reference in g": r"the levels of its reference channels relative to node r1 \(0, 0, 1\) \(node r2 \(0, 0, 1\): "
+                          r"(9\.\d+|10\.\d) \(others (0\.[89]\d*|1\.\d+)\)\) differ from those of (2 of 2|4 of 4) .* by "
+                          r"up to (9\.\d+|1\d\.\d) x",  # 9.8 x
+}
+
+
 @pytest.mark.parametrize("how, check", [("unit slip", "reference levels"), ("swapped references", "reference shapes"),
                                         ("wrong rate", "rate"), ("one reference in g", "reference ratio")])
 def test_a_bad_setup_is_named_and_left_out(how, check):
@@ -190,6 +202,9 @@ def test_a_bad_setup_is_named_and_left_out(how, check):
         merged = merge_setups(setups, results)
         assert set(merged.disagreements["setup"]) == {"s2"}, merged.disagreements
         assert check in set(merged.disagreements["check"])
+        evidence = merged.disagreements.set_index("check").loc[check, "evidence"]
+        assert re.search(EVIDENCE[how], evidence), evidence
+        assert "cannot be told" not in evidence
         assert len(merged.modes) == 3 and (merged.modes["n_setups"] == n - 1).all()
         assert (merged.modes["left_out"] == "s2").all()
         out = merged.matches[merged.matches["setup"] == "s2"]
@@ -202,6 +217,7 @@ def test_a_bad_setup_is_named_and_left_out(how, check):
     _spoil(setups, results, 1, how)
     merged = merge_setups(setups, results)
     assert len(merged.modes) == 0 and set(merged.disagreements["setup"]) == {"s1", "s2"}
+    assert merged.disagreements["evidence"].str.contains("; with two setups, which one is wrong cannot be told").all()
 
 
 def test_one_mode_of_a_setup_that_disagrees_is_left_out_of_that_mode_only():
