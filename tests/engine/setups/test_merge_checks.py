@@ -429,3 +429,45 @@ def test_a_constant_frequency_ratio_is_found():
     assert rate_ratio([5.0, 9.6, 15.4], [5.01, 9.6, 15.42])[1:] == (3, 3)
     assert rate_ratio([], [1.0]) == (1.0, 0, 0) and rate_ratio([1.0], []) == (1.0, 0, 0)
     assert rate_ratio([1.0, 2.0], [10.0, 20.0])[1] == 0  # beyond 5 x: not a rate
+
+
+def test_the_merged_tables_hold_the_setups_statistics_and_directions():
+    """modes.csv: mean and spread (ddof 1) of the selected frequencies and
+    dampings, the smallest reference MAC, MPC 1 for real modes, the nodes;
+    matches.csv: each setup's reference share and rescaling modulus;
+    shapes.csv: a roving channel along x or y gives that component only."""
+    truth = _truth()
+    setups, results = _setups(3, truth)
+    for s, (setup, result) in enumerate(zip(setups, results)):
+        result.modes["damping"] = [0.01 + 0.001 * s, 0.02, 0.03 - 0.002 * s]
+        table = setup.channels.copy()
+        table.loc[2, ["x", "y", "z"]] = [1.0, 0.0, 0.0]
+        table.loc[3, ["x", "y", "z"]] = [0.0, -1.0, 0.0]
+        setups[s] = Setup(setup.name, setup.record, table)
+    merged = merge_setups(setups, results)
+    freqs = np.array([r.modes["freq_hz"].to_numpy() for r in results])
+    np.testing.assert_allclose(merged.modes["freq_hz"], freqs.mean(axis=0))
+    np.testing.assert_allclose(merged.modes["freq_spread_hz"], freqs.std(axis=0, ddof=1))
+    np.testing.assert_allclose(merged.modes["damping"], [0.011, 0.02, 0.028])
+    np.testing.assert_allclose(merged.modes["damping_spread"], [0.001, 0.0, 0.002], atol=1e-12)
+    np.testing.assert_allclose(merged.modes["mpc"], 1.0)
+    assert (merged.modes["ref_mac"] > 0.999999).all() and (merged.modes["n_nodes"] == 2 + 2 * 3).all()
+    assert list(merged.modes["setups"]) == ["s1 s2 s3"] * 3 and (merged.modes["n_flagged"] == 0).all()
+    for row in merged.matches.itertuples():
+        result = results[int(row.setup[1:]) - 1]
+        phi = result.complex_shapes[:, row.mode - 1]
+        assert row.ref_share == pytest.approx(np.linalg.norm(phi[:2]) / np.linalg.norm(phi))
+        assert row.scale == pytest.approx(1 / np.linalg.norm(phi[:2]), rel=1e-6)  # onto a unit consensus
+    for k in range(3):
+        rows, _ = _merged_shape(merged, k + 1)
+        values = []
+        for node in rows.index:
+            exact = truth[NODES.index(node), k]
+            setup = next(s for s in setups if node in set(s.channels["node"]))
+            direction = setup.channels.set_index("node").loc[node, ["x", "y", "z"]].to_numpy(dtype=float)
+            axis = int(np.argmax(np.abs(direction)))
+            measured = rows.loc[node, "xyz"[axis]] + 1j * rows.loc[node, "xyz"[axis] + "_im"]
+            assert rows.loc[node, [c for c in "xyz" if c != "xyz"[axis]]].isna().all()
+            values.append((measured, exact / direction[axis]))  # a channel reads e . u
+        ratio = np.array([m / e for m, e in values])
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
