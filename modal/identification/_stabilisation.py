@@ -662,10 +662,10 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     with np.errstate(invalid="ignore", divide="ignore"):  # a one-pole mode (min_poles = 1) has no std
         std = {name: np.sqrt(np.bincount(inner, (groups[name] - mean[name][inner]) ** 2, minlength=n_clusters)
                              / (count - 1)) for name in ("freq_hz", "damping")}
-    second = np.full(n_clusters, -1)
-    for duplicate, mode in sorted(second_of.items(), key=lambda item: count[item[0]]):  # the largest stated
-        second[mode] = duplicate
-    has_second = second[kept] >= 0
+    stated = {}  # each mode's largest second estimate: second_of runs by size, largest first
+    for duplicate, mode in second_of.items():
+        stated.setdefault(mode, duplicate)
+    second = [stated.get(c) for c in kept]
     mode_shapes = shapes[:, medoids[kept]]
     close, close_mac = _close_modes(mean["freq_hz"][kept], mode_shapes, criteria.close_rtol)
     modes = pd.DataFrame({
@@ -674,8 +674,8 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
         "damping_spread": std["damping"][kept], "n_poles": count[kept],
         "mpc": mean["mpc"][kept], "mamc": mean["mamc"][kept], "mpd": mean["mpd"][kept], "close": close,
         "close_mac": close_mac,
-        "second_freq_hz": np.where(has_second, mean["freq_hz"][second[kept]], np.nan),
-        "second_damping": np.where(has_second, mean["damping"][second[kept]], np.nan),
+        "second_freq_hz": [np.nan if c is None else mean["freq_hz"][c] for c in second],
+        "second_damping": [np.nan if c is None else mean["damping"][c] for c in second],
     })
     rms, relative = (np.ones(l), np.zeros(l, dtype=int)) if channels is None else channels
     visible = np.abs(mode_shapes) * (2 * np.pi * modes["freq_hz"].to_numpy()) ** relative[:, None] / rms[:, None]
@@ -715,7 +715,8 @@ def _shape_scatter(clusters, member, macs, scatter_k):
 
 def _second_estimates(modes, count, freq, damping, clusters, member, macs, shape_scatter):
     """``{cluster: mode cluster}`` for each mode cluster that is a second
-    estimate of a larger one (more poles; on ties the first): the median
+    estimate of a larger one (more poles; on ties the first), in order of
+    size, largest first: the median
     ``1 - MAC`` between their poles within the larger shape scatter of the
     two (:func:`_shape_scatter`; at least :data:`SAME_SHAPE_ATOL`), and mean
     frequencies (``freq``) within the half-power half-width ``zeta f`` of

@@ -572,3 +572,12 @@ def test_the_larger_second_estimate_is_stated_whichever_side_it_lies():
     _, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(cluster_distance=1e-4), 8)
     assert modes["second_freq_hz"].tolist() == pytest.approx([9.995])
     assert modes["second_damping"].tolist() == pytest.approx([0.02])
+
+
+def test_bad_segments_are_refused_naming_them():
+    """A segment that is not a finite array of records is refused with a
+    message naming ``segments``."""
+    from modal.identification import segment_std
+
+    with pytest.raises(ValueError, match="^segments"):
+        segment_std([np.ones((10, 2)), np.full((10, 2), np.nan)], None, {}, None, 2, 2, 0, 2, 0.01)
