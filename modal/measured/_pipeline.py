@@ -396,7 +396,7 @@ def with_spectral_witness(result: Stabilisation, spectrum) -> Stabilisation:
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)
         modes["flag"] = pd.Series([("; ".join(filter(None, [f, NO_SPECTRAL_PEAK])) if lack else f)
-                                   for f, lack in zip(flags, lacking)], index=modes.index, dtype=object)
+                                   for f, lack in zip(flags, lacking)], index=modes.index, dtype=modes["flag"].dtype)
     return dataclasses.replace(result, modes=modes)
 
 
