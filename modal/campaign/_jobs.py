@@ -52,8 +52,10 @@ def identify_one(path, options, layout: dict | None = None):
 
 def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout: dict | None = None) -> None:
     """Identify each record of ``records`` (``record``, ``path``, ``time``)
-    and write ``modes_csv`` (one row per mode: :data:`MODE_COLUMNS` and the
-    real shape, ``phi_0``, ``phi_1``, ... over the channels used) and
+    and write ``modes_csv`` (one row per trusted mode, those without a
+    ``flag`` from the selection, as ``modal identify`` prints them:
+    :data:`MODE_COLUMNS` and the real shape, ``phi_0``, ``phi_1``, ... over
+    the channels used) and
     ``failed_csv`` (``record, reason``: could not be read or identified, or
     does not share the campaign's ``layout``, :func:`identify_one`).
 
@@ -69,7 +71,8 @@ def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout
             failed.append({"record": rec.record, "reason": _reason(exc)})
             continue
         modes = result.modes
-        for k in range(len(modes)):
+        trusted = (modes["flag"].fillna("") == "").to_numpy() if "flag" in modes else np.ones(len(modes), bool)
+        for k in np.flatnonzero(trusted):  # a doubtful mode (its flag says why) is never tracked
             row = {"record": rec.record, "time": rec.time}
             row.update({c: modes[c].iloc[k] for c in MODE_COLUMNS[2:]})
             row.update({f"phi_{c}": v for c, v in enumerate(result.shapes[:, k])})
