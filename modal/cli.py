@@ -353,11 +353,14 @@ def identify_setups(args, options) -> int:
         return code
     merged, results = written
     log(_wrote(args.out))
-    modes = merged.modes
+    doubtful = merged.modes[merged.modes["flag"] != ""]  # kept in modes.csv with the reason, not printed
+    modes = merged.modes[merged.modes["flag"] == ""]
     print(f"{len(setups)} setup(s): {len(modes)} modes (selected in at least "
           f"{modal.setups.required_setups(len(setups), args.min_setups)} setups); shapes at "
           f"{merged.shapes['node'].nunique()} nodes "
-          f"in {args.out / 'shapes.csv'}")
+          f"in {args.out / 'shapes.csv'}"
+          + (f"; {len(doubtful)} doubtful, in modes.csv with the reason in flag: "
+             + ", ".join(f"{f:.4g} Hz" for f in doubtful["freq_hz"]) if len(doubtful) else ""))
     if len(modes):
         print("damping and damping_spread: ratio to critical (fraction, not %); spreads over the setups")
         print(modes[["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",

@@ -190,7 +190,9 @@ class MergedModes:
         ``matches``), ``ref_mac`` (smallest MAC of a merged setup's
         reference part with the others'), ``mpc`` of the merged shape,
         ``n_nodes`` (nodes with a shape), ``n_flagged`` (nodes flagged in
-        ``shapes``).
+        ``shapes``), ``flag`` (empty, or "doubtful in every setup that
+        selected it" with the setups' most common reason: such a mode is kept
+        out of the printed list, as a single record's doubtful modes are).
     shapes : pandas.DataFrame
         Long form, one row per mode and node: ``mode``, ``node``, ``x``,
         ``y``, ``z`` (real view in the global frame, NaN where no channel
@@ -453,6 +455,11 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
     neighbours = _neighbours(geometry)
     modes, shape_rows, matches = [], [], []
     for number, (cluster, ejected) in enumerate(kept, start=1):
+        # doubtful where every setup that selected it flags it (the selection's or the witness's reasons)
+        doubts = [str(results[s].modes["flag"].iloc[k]) if "flag" in results[s].modes else ""
+                  for s, k, _, _, _ in cluster]
+        doubts = [d for d in doubts if d and d != "nan"] if all(d and d != "nan" for d in doubts) else []
+        flag = f"doubtful in every setup that selected it ({max(set(doubts), key=doubts.count)})" if doubts else ""
         members = {}
         for s, k, f, _, _ in cluster:
             m = results[s].modes.iloc[k]
@@ -536,10 +543,10 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
             "left_out": " ".join(setups[s].name for s in sorted(left_out)),
             "ref_mac": float(np.min(ref_macs)) if keys and len(setups) > 1 else np.nan,
             "mpc": float(modal_phase_collinearity(known[:, None])[0]) if known.size else np.nan,
-            "n_nodes": len(per_node), "n_flagged": len(flags),
+            "n_nodes": len(per_node), "n_flagged": len(flags), "flag": flag,
         })
     mode_columns = ["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
-                    "setups", "left_out", "ref_mac", "mpc", "n_nodes", "n_flagged"]
+                    "setups", "left_out", "ref_mac", "mpc", "n_nodes", "n_flagged", "flag"]
     shape_columns = ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"]
     match_columns = ["mode", "setup", "setup_mode", "source", "status", "reason", "freq_hz", "damping", "ref_mac",
                      "ref_share", "scale"]

@@ -131,7 +131,10 @@ def test_min_setups_drops_a_mode_seen_once(plate_test):
     setups, _, _ = plate_test
     results = [modal.identify_setup(s, "ambient", fmax=12)[0] for s in setups[:2]]
     merged = merge_setups(setups[:2], results, min_setups=2)
-    assert np.allclose(merged.modes["freq_hz"], [5.014, 9.642], rtol=5e-3)
+    trusted = merged.modes[merged.modes["flag"] == ""]  # a mode both setups flag doubtful is flagged, not trusted
+    assert np.allclose(trusted["freq_hz"], [5.014, 9.642], rtol=5e-3)
+    assert all(f.startswith("doubtful in every setup that selected it (") for f in
+               merged.modes.loc[merged.modes["flag"] != "", "flag"])
 
 
 def test_node_shapes_resolve_oblique_directions():
