@@ -79,15 +79,16 @@ def _count_jobs(workdir, *args):
 @pytest.mark.slow
 def test_identify_jobs_grow_with_the_seeds(tmp_path):
     """Default config: 50 seeds in one chunk of 50; 200 seeds in chunks of 25
-    -> eight jobs per noisy study (demo, noise, cera) and interpretation;
-    spillover is noise-free: one job per interpretation."""
+    -> eight jobs per noisy study and interpretation (demo and noise: named,
+    lower; cera: those and guideline); spillover is noise-free: one job per
+    interpretation."""
     work = copy_project(tmp_path, searches=True)
     (work / "more.yaml").write_text(yaml.safe_dump({"seeds": {"first": 0, "count": 200, "chunk": 25},
                                                     "grid": {"seeds": {"first": 0, "count": 10, "chunk": 3}}}))
     default, more = _count_jobs(work), _count_jobs(work, "--configfile", "more.yaml")
-    assert (default["identify"], default["grid_identify"]) == (3 * 2 * 1 + 2, 2)
-    assert (more["identify"], more["grid_identify"]) == (3 * 2 * 8 + 2, 4)
-    assert default["merge_identified"] == more["merge_identified"] == 8
+    assert (default["identify"], default["grid_identify"]) == ((2 + 2 + 3) * 1 + 2, 2)
+    assert (more["identify"], more["grid_identify"]) == ((2 + 2 + 3) * 8 + 2, 4)
+    assert default["merge_identified"] == more["merge_identified"] == 2 + 2 + 3 + 2
 
 
 # --- threads ------------------------------------------------------------------------
@@ -140,9 +141,10 @@ def test_chunked_run_as_separate_processes_equals_the_local_run(small_workflow, 
     assert sorted(p.name for p in (work / "results/identified/chunks").glob("demo_lower_*.csv")) == [
         "demo_lower_0.csv", "demo_lower_1.csv", "demo_lower_2.csv"]
     submitted = list((work / "cluster_logs").iterdir())
-    # identify (demo, cera x 2 x 3 chunks; spillover x 2, noise-free: the one beam
-    # table job reads every beam study), grid chunks, the beam and the grid table job
-    assert len(submitted) == 4 * 3 + 2 + 2 + 2
+    # identify (demo x 2 and cera x 3 interpretations, x 3 chunks; spillover x 2,
+    # noise-free: the one beam table job reads every beam study), grid chunks,
+    # the beam and the grid table job
+    assert len(submitted) == (2 + 3) * 3 + 2 + 2 + 2
     differ = [t for t in TARGETS if (work / t).read_bytes() != (small_workflow / t).read_bytes()]
     assert not differ, f"separate-process chunked run differs from the local run: {differ}"
 
