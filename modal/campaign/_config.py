@@ -154,10 +154,13 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
 
 def channel_units(record) -> list:
     """The unit each channel of ``record`` declares (a UFF's or LVM's unit
-    label, lower case, spaces dropped), None where the file names none."""
+    label) in one spelling (:func:`modal.records.unit_key`: ``m/s^2`` and
+    ``m/s²`` are one unit), None where the file names none."""
+    from ..records import unit_key
+
     units = record.channels["unit"] if "unit" in record.channels else [None] * record.acc.shape[1]
-    return [None if u is None or (isinstance(u, float) and u != u) or not str(u).strip()
-            else str(u).strip().lower().replace(" ", "") for u in units]
+    return [None if u is None or (isinstance(u, float) and u != u) or not str(u).strip() else unit_key(u)
+            for u in units]
 
 
 def _layout(path, options, index) -> dict | None:

@@ -3,6 +3,7 @@ LabVIEW ``.lvm``, UFF data set 58), and what a record may hide (clipping)."""
 
 from ._io import MeasuredRecord, load_record, read_record, save_record_npz, write_uff58
 from ._quality import clipped_samples, clipping_warnings
+from ._units import unit_key  # not re-exported by modal: the channel tables' and campaigns' helper
 
 __all__ = ["MeasuredRecord", "clipped_samples", "clipping_warnings", "load_record", "read_record",
            "save_record_npz", "write_uff58"]

@@ -27,14 +27,13 @@ give one) or from the project's own CSV (:func:`read_channel_table`).
 from __future__ import annotations
 
 import io
-import re
-import unicodedata
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from ..identification import QUANTITIES
+from ..records import unit_key
 
 COLUMNS = ["channel", "name", "node", "x", "y", "z", "quantity", "unit", "role"]
 ROLES = ("reference", "roving")
@@ -48,17 +47,6 @@ UNITS = {
     "acceleration": {"m/s2": 1.0, "cm/s2": 1e-2, "gal": 1e-2, "mm/s2": 1e-3, "g": 9.80665, "mg": 9.80665e-3,
                      "in/s2": 0.0254},
 }
-
-
-def unit_key(unit) -> str:
-    """The spelling of ``unit`` that :data:`UNITS` uses: Unicode compatibility
-    form (the micro sign and the Greek mu are one letter, superscripts plain
-    digits), lower case, ``u`` for micro, without spaces, ``^``, ``*`` or
-    ``·``, and a negative power of s written as a division: ``m s^-2``,
-    ``m·s⁻²``, ``m/s**2`` and ``m/s²`` are all ``m/s2``; ``µm/s`` is ``um/s``."""
-    key = unicodedata.normalize("NFKC", str(unit)).strip().lower().replace("\u03bc", "u").replace("\u2212", "-")
-    key = re.sub(r"[\s^*\u00b7\u22c5]", "", key)
-    return re.sub(r"s-([12])$", lambda m: "/s" + ("2" if m.group(1) == "2" else ""), key)
 
 #: Components of a unit direction whose norm differs from 1 by more than
 #: this are refused; smaller deviations (rounded files) are normalised.

@@ -285,14 +285,16 @@ def _lvm(path, unit, n=400):
 def test_a_record_in_other_units_fails_naming_them(tmp_path, stand_in):
     """A logger switched from g to m/s^2: the record fails with both units
     (its shapes would mix units); the same unit in other case does not."""
-    for name, unit in (("a", "g"), ("b", "m/s^2"), ("c", "G")):
+    for name, unit in (("a", "g"), ("b", "m/s^2"), ("c", "G"), ("d", "m/s²")):
         _lvm(tmp_path / f"{name}.lvm", unit)
     (tmp_path / "i.csv").write_text("path,time\na.lvm,2025-01-01\nb.lvm,2025-01-02\nc.lvm,2025-01-03\n")
     config, _ = read_campaign(write(tmp_path, "records: {index: i.csv}\n" + IDENTIFY))
     assert config["layout"]["units"] == ["g"]
-    with pytest.raises(ValueError, match=r"^channel 0 in m/s\^2, the campaign's records in g \(as a.lvm\): the "
+    with pytest.raises(ValueError, match=r"^channel 0 in m/s2, the campaign's records in g \(as a.lvm\): the "
                                          r"shapes would mix units$"):
         identify_one(tmp_path / "b.lvm", config["identify"], config["layout"])
+    spelt = dict(config["layout"], units=["m/s2"])  # the same unit spelt otherwise is one unit
+    assert identify_one(tmp_path / "d.lvm", config["identify"], spelt) is not None
     assert identify_one(tmp_path / "c.lvm", config["identify"], config["layout"]) is not None
     npz = dict(config["layout"], units=[None])  # a record that names no unit is not compared
     assert identify_one(tmp_path / "b.lvm", config["identify"], npz) is not None
