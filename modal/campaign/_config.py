@@ -19,6 +19,10 @@ A campaign is a YAML file::
       mac_min: 0.8
       min_share: 0.3
     chunk: 50                     # records per job
+    geometry:                     # optional: the tracked shapes drawn on the structure in the report
+      folder: geometry            # as ``modal identify --geometry`` reads it (nodes.csv, pyOMA's, pyOMA2's)
+      channels: channels.csv      # where each channel sits (docs: Roving tests); not needed when
+                                  # the geometry names the records' channels (pyOMA2's sensors)
 
 :func:`read_campaign` checks it (unknown keys, types and ranges are
 refused with the key named) and returns it with absolute paths and the
@@ -27,6 +31,7 @@ index, sorted by time.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import re
@@ -65,6 +70,19 @@ SCHEMA = {
                            "min_share": {"type": "number", "exclusiveMinimum": 0, "maximum": 1}},
         },
         "chunk": {"type": "integer", "minimum": 1},
+        "geometry": {
+            "type": "object", "additionalProperties": False, "required": ["folder"],
+            "description": "draw each tracked mode's mean shape on the structure in the report",
+            "properties": {
+                "folder": {"type": "string", "minLength": 1,
+                           "description": "the geometry's folder, relative to the campaign file, in any format "
+                                          "modal identify --geometry reads (nodes.csv; pyOMA's grid.txt; "
+                                          "pyOMA2's files)"},
+                "channels": {"type": "string", "minLength": 1,
+                             "description": "channel table (channels.csv, docs: Roving tests) placing each "
+                                            "identified channel at a node and direction; not needed when the "
+                                            "geometry's sensors name the records' channels (pyOMA2)"}},
+        },
     },
 }
 
@@ -89,7 +107,12 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     config : dict
         As written, with the defaults filled in (``identify`` holds every
         option of :class:`modal.IdentifyOptions`) and paths made absolute;
-        ``layout``: the channel count and rate every record must share.
+        ``layout``: the channel count and rate every record must share;
+        ``geometry``: None, or the geometry's ``folder``, the ``channels``
+        file (or None), the channel table of the channels identified
+        (``table``: records of :mod:`modal.setups`' channel table) and the
+        record channels each shape entry stands for (``shape_channels``):
+        :func:`_geometry`.
     index : pandas.DataFrame
         ``record`` (a name unique in the campaign: the path relative to the
         configuration's folder), ``path`` (absolute), ``time``
@@ -148,8 +171,60 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
         raise ValueError(f"{path}: records: {name} is listed {count} times (paths naming the same file, such as "
                          "x and ./x, are one record)")
     index = index.sort_values(["time", "record"], kind="stable").reset_index(drop=True)
-    config["layout"] = _layout(path, IdentifyOptions.from_mapping(config["identify"]), index)
+    options = IdentifyOptions.from_mapping(config["identify"])
+    config["layout"] = _layout(path, options, index)
+    config["geometry"] = _geometry(path, config.get("geometry"), options, config["layout"], index)
     return config, index
+
+
+def _geometry(path: Path, given: dict | None, options, layout: dict | None, index: pd.DataFrame) -> dict | None:
+    """The ``geometry`` section checked, with absolute paths, or None when
+    absent: the geometry read (:func:`modal.setups.read_geometry`), the
+    channel table read against it (``channels``, else the geometry's sensors
+    matched by name to the channels of the layout's record), every channel
+    of the table among those identified (``identify.channels``). Adds
+    ``table`` (the table's rows, as records) and ``shape_channels`` (the
+    record channel of each shape entry ``phi_<k>``); ``table`` is None when
+    no record reads (the sensors cannot be matched to names)."""
+    from ..records import read_record
+    from ..setups import read_channel_table, read_geometry
+
+    if given is None:
+        return None
+    base = path.parent
+    folder = (base / given["folder"]).resolve()
+    try:
+        geometry = read_geometry(folder)
+    except ValueError as exc:
+        raise ValueError(f"{path}: geometry.folder: {exc}") from None
+    n_channels = None if layout is None else layout["n_channels"]
+    channels = None if given.get("channels") is None else (base / given["channels"]).resolve()
+    try:
+        if channels is not None:
+            if not channels.is_file():
+                raise ValueError(f"no file {channels}")
+            table = read_channel_table(channels, n_channels, geometry.nodes.index)
+        elif geometry.sensors.empty:
+            raise ValueError(f"{folder} names no sensors: give geometry.channels, a channel table placing each "
+                             "channel at a node and direction (docs: Roving tests)")
+        elif layout is None:
+            table = None
+        else:
+            record = read_record(index.loc[index["record"] == layout["record"], "path"].iloc[0], options.fs)
+            table = geometry.channel_table(record.channels["name"])
+    except ValueError as exc:
+        raise ValueError(f"{path}: geometry.{'channels' if channels is not None else 'folder'}: {exc}") from None
+    used = list(options.channels) if options.channels is not None else \
+        (list(range(n_channels)) if n_channels is not None else None)
+    if table is not None and used is not None:
+        outside = [int(c) for c in table["channel"] if c not in used]
+        if outside:
+            raise ValueError(f"{path}: geometry: channel(s) {outside} of the channel table are not identified "
+                             f"(identify.channels: {', '.join(map(str, used))}): place the channels identified")
+    return {"folder": str(folder), "channels": None if channels is None else str(channels),
+            # plain values (a workflow's params): JSON's types, not numpy's
+            "table": None if table is None else json.loads(table.to_json(orient="records")),
+            "shape_channels": used}
 
 
 def channel_units(record) -> list:
@@ -238,13 +313,17 @@ def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | No
 
 def campaign_inputs(path, config: dict, index: pd.DataFrame) -> list[Path]:
     """Every file a campaign reads: the campaign file, its index (if any),
-    the reference modes (if given) and each record."""
+    the reference modes (if given), the geometry's folder and channel table
+    (if given) and each record."""
     path = Path(path).resolve()
     files = [path]
     if "index" in config["records"]:
         files.append(path.parent / config["records"]["index"])
     if config["tracking"]["reference_modes"]:
         files.append(Path(config["tracking"]["reference_modes"]))
+    geometry = config.get("geometry")
+    if geometry:
+        files += [Path(geometry["folder"])] + ([Path(geometry["channels"])] if geometry["channels"] else [])
     return files + [Path(p) for p in index["path"]]
 
 

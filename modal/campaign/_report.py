@@ -1,7 +1,8 @@
 """A campaign's report: one self-contained HTML page with every identified
 mode over time, the tracked modes' frequency and damping with their
 uncertainty, frequency against the index's other columns (temperature,
-wind, ...), the failed records and the provenance.
+wind, ...), each tracked mode's mean shape drawn on the structure (when the
+campaign gives a geometry), the failed records and the provenance.
 
 Damping is given in % of critical everywhere in the report (tables and
 axes); the CSV files keep the ratio (``tracked.csv``'s ``damping``)."""
@@ -126,6 +127,76 @@ def covariate_figure(tracked: pd.DataFrame, references: pd.DataFrame, covariates
     return figure
 
 
+def drawn_shapes(shapes: pd.DataFrame, table: pd.DataFrame, shape_channels, geometry=None) -> pd.DataFrame:
+    """The tracked modes' shapes on the geometry's nodes, as ``modal
+    identify`` draws a roving test's (:func:`modal.setups.modes_figure`).
+
+    Parameters
+    ----------
+    shapes : pandas.DataFrame
+        ``mode`` and ``phi_<k>`` (real, over the channels identified): the
+        mean shapes of ``tracked_shapes.csv``
+        (:func:`modal.campaign._tracking.mean_shapes`).
+    table : pandas.DataFrame
+        The channel table (``channel``: the record's column, ``node``,
+        ``x, y, z``: the measuring direction, ``quantity`` and ``unit``).
+    shape_channels : sequence of int
+        The record channel of each entry ``phi_<k>`` (``identify.channels``,
+        or all the record's channels).
+    geometry : modal.setups.Geometry, optional
+        Its lines and links say which nodes are neighbours for the
+        normalisation (without it: every other node).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Long form, one row per mode and node: ``mode``, ``node``, ``x``,
+        ``y``, ``z``, ``x_im``, ``y_im``, ``z_im``, ``flag``. Each channel's
+        value is brought to SI by its unit; each node's motion is solved
+        from its channels (:func:`modal.setups.node_shapes`) and the shape
+        normalised by the roving route's rule (:func:`modal.setups._merge.normalise`:
+        largest component 1 among the nodes that agree with their
+        neighbours; the others flagged).
+    """
+    from ..setups import node_shapes
+    from ..setups._channels import unit_factor
+    from ..setups._merge import _neighbours, normalise
+
+    position = {int(c): k for k, c in enumerate(shape_channels)}
+    entries = [position[int(c)] for c in table["channel"]]
+    where = [(str(node), tuple(e)) for node, e in zip(table["node"], table[["x", "y", "z"]].to_numpy(dtype=float))]
+    factors = np.array([unit_factor(q, u) for q, u in zip(table["quantity"], table["unit"])])
+    neighbours, rows = _neighbours(geometry), []
+    for mode, phi in zip(shapes["mode"], _phi(shapes)):
+        per_node = node_shapes(where, phi[entries] * factors)
+        pivot, flags = normalise(per_node, neighbours)
+        for node, u in per_node.items():
+            u = u / pivot
+            rows.append({"mode": int(mode), "node": node, "x": u[0].real, "y": u[1].real, "z": u[2].real,
+                         "x_im": u[0].imag, "y_im": u[1].imag, "z_im": u[2].imag, "flag": flags.get(node, "")})
+    return pd.DataFrame(rows, columns=["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"])
+
+
+def _phi(shapes: pd.DataFrame) -> np.ndarray:
+    columns = sorted((c for c in shapes.columns if str(c).startswith("phi_")), key=lambda c: int(c[4:]))
+    return shapes[columns].to_numpy(dtype=float)
+
+
+def shapes_figure(geometry, table: pd.DataFrame, shape_channels, shapes: pd.DataFrame):
+    """Each tracked mode's mean shape drawn on the structure
+    (:func:`drawn_shapes`, :func:`modal.setups.modes_figure`), titled with its
+    mean frequency and the number of estimates averaged; a matplotlib
+    ``Figure``, or None when no mode was tracked."""
+    from ..setups import modes_figure
+
+    if shapes.empty:
+        return None
+    titles = {int(row.mode): f"mode {int(row.mode)}: {row.freq_hz:.4g} Hz (mean of {int(row.n_estimates)})"
+              for row in shapes.itertuples()}
+    return modes_figure(geometry, drawn_shapes(shapes, table, shape_channels, geometry), titles,
+                        columns=min(3, len(titles)))
+
+
 def _png(figure) -> str:
     buffer = io.BytesIO()
     figure.savefig(buffer, format="png", dpi=100)
@@ -170,13 +241,17 @@ def mode_summary(tracked: pd.DataFrame, references: pd.DataFrame, n_identified: 
 
 
 def campaign_report(path, tracked, untracked, failed, references, n_records, config_text, command,
-                    covariates: pd.DataFrame | None = None) -> None:
+                    covariates: pd.DataFrame | None = None, geometry=None, shapes: pd.DataFrame | None = None) -> None:
     """Write the report to ``path``: counts, the reference modes with what
     share of records holds each, every identified mode over time, each
     tracked mode's frequency and damping over time, its frequency against
     each numeric column of ``covariates`` (``record`` and e.g. the index's
-    temperature; none: no such plot), the failed records and why, and the
-    provenance (command, configuration, versions)."""
+    temperature; none: no such plot), each tracked mode's mean shape drawn
+    on the structure (``geometry``: the :class:`modal.setups.Geometry`, the
+    channel table and the record channel of each shape entry;
+    ``shapes``: the mean shapes, :func:`shapes_figure`; either None: no
+    drawing), the failed records and why, and the provenance (command,
+    configuration, versions)."""
     n_failed = failed["record"].nunique() if len(failed) else 0
     n_identified = n_records - n_failed
     summary = mode_summary(tracked, references, n_identified)
@@ -205,6 +280,13 @@ def campaign_report(path, tracked, untracked, failed, references, n_records, con
         if figure is not None:
             parts += ["<h2>Frequency against the index's columns</h2>",
                       _img(figure, "frequency against the index's columns")]
+    if geometry is not None and shapes is not None:
+        figure = shapes_figure(*geometry, shapes)
+        parts += ["<h2>Tracked shapes</h2>",
+                  "<p>Each tracked mode's mean shape over the records it was tracked in, drawn on the structure: "
+                  "undeformed dashed, measured nodes red, the largest component of the nodes that agree with "
+                  "the others 1.</p>",
+                  _img(figure, "tracked shapes on the structure") if figure is not None else "<p>None tracked.</p>"]
     parts += [
         "<h2>Failed records</h2>",
         (failed.to_html(index=False, border=0) if n_failed else "<p>None.</p>"),

@@ -84,12 +84,16 @@ def simulate_campaign(folder, n_records=200, every_hours=6.0, duration=600.0, fs
     s; white forces at every floor, seed ``seed + record``; Gaussian noise of
     ``noise`` times each channel's RMS), named ``frame_YYYYmmdd_HHMM.npz``,
     every ``every_hours`` from ``start``; ``index.csv`` (``path,time`` and
-    the record's ``temperature_c``) and ``campaign.yaml`` (the index, fmax
-    10 Hz).
+    the record's ``temperature_c``), ``geometry/`` (the frame's floors as
+    nodes ``0`` (ground) to ``4``, 3 m apart, ``nodes.csv``, ``lines.csv``,
+    and ``channels.csv``: channel ``k`` along x at floor ``k + 1``) and
+    ``campaign.yaml`` (the index, fmax 10 Hz, the geometry).
 
     ``structure="crossing"`` simulates the two-storey frame swaying in x and
     y (:func:`crossing_frame_modes`; 4 sensors, ``damping`` in its mode
-    order) instead: its x modes cross its y modes in frequency.
+    order) instead: its x modes cross its y modes in frequency (its geometry:
+    floors ``1``, ``2`` measured along x by channels 0, 1 and along y by 2,
+    3).
 
     Returns the truth: ``record, time, temperature_c, mode, freq_hz,
     damping`` and the mode's shape at the sensors, ``phi_0``, ``phi_1``, ....
@@ -120,6 +124,30 @@ def simulate_campaign(folder, n_records=200, every_hours=6.0, duration=600.0, fs
                    "damping": z, **{f"phi_{s}": v for s, v in enumerate(modes[:, k])}}
                   for k, (w, z) in enumerate(zip(omega, damping))]
     pd.DataFrame(index).to_csv(folder / "index.csv", index=False)
+    _write_geometry(folder / "geometry", len(MASSES) if structure == "frame" else len(CROSSING_MASSES),
+                    both_directions=structure == "crossing")
     (folder / "campaign.yaml").write_text(
-        "records:\n  index: index.csv\nidentify:\n  excitation: ambient\n  fmax: 10\n  max_order: 40\nchunk: 25\n")
+        "records:\n  index: index.csv\nidentify:\n  excitation: ambient\n  fmax: 10\n  max_order: 40\nchunk: 25\n"
+        "geometry:\n  folder: geometry\n  channels: geometry/channels.csv\n")
     return pd.DataFrame(truth)
+
+
+#: Storey height of the simulated frames' geometry (m).
+STOREY_HEIGHT = 3.0
+
+
+def _write_geometry(folder: Path, floors: int, both_directions: bool) -> None:
+    """A simulated frame's geometry (the project's format): nodes ``0``
+    (ground) to ``floors`` up the z axis, lines between consecutive floors,
+    and the channel table: one channel per floor along x (and then one per
+    floor along y when ``both_directions``), in the order of the records'
+    columns."""
+    folder.mkdir(parents=True, exist_ok=True)
+    pd.DataFrame({"node": range(floors + 1), "x": 0.0, "y": 0.0,
+                  "z": STOREY_HEIGHT * np.arange(floors + 1)}).to_csv(folder / "nodes.csv", index=False)
+    pd.DataFrame({"node_1": range(floors), "node_2": range(1, floors + 1)}).to_csv(folder / "lines.csv", index=False)
+    directions = [(1.0, 0.0, 0.0)] + ([(0.0, 1.0, 0.0)] if both_directions else [])
+    rows = [{"channel": len(directions[:d]) * floors + f, "name": f"floor{f + 1}_{'xy'[d]}", "node": f + 1,
+             "x": e[0], "y": e[1], "z": e[2], "quantity": "acceleration", "unit": "m/s2", "role": "roving"}
+            for d, e in enumerate(directions) for f in range(floors)]
+    pd.DataFrame(rows).to_csv(folder / "channels.csv", index=False)

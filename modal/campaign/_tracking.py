@@ -10,6 +10,7 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
 from ..identification import mac
+from ..identification._result import normalise_shapes
 from ._jobs import shape_matrix
 
 TRACKED_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "mac"]
@@ -241,7 +242,7 @@ def observed_ranges(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.0
     return out
 
 
-def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, mac_min=0.8):
+def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, mac_min=0.8, shapes=False):
     """Each record's modes matched one to one to the ``references``, by shape.
 
     A record's mode may match a reference when its shape does (MAC >=
@@ -254,6 +255,9 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
     of largest summed MAC is taken (scipy's ``linear_sum_assignment``; equal
     MACs: the frequency nearer the reference's).
 
+    ``shapes``: also give each tracked estimate's shape (its ``phi_<k>``
+    columns after :data:`TRACKED_COLUMNS`), e.g. for :func:`mean_shapes`.
+
     Returns
     -------
     tracked : pandas.DataFrame
@@ -262,12 +266,13 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
     untracked : pandas.DataFrame
         The modes that matched no reference (their record-local numbers).
     """
+    phi = [c for c in modes.columns if str(c).startswith("phi_")] if shapes else []
     if modes.empty or references.empty:
-        return pd.DataFrame(columns=TRACKED_COLUMNS), modes.copy()
+        return pd.DataFrame(columns=TRACKED_COLUMNS + phi), modes.copy()
     ref_shapes = shape_matrix(references)
-    shapes = shape_matrix(modes)
-    if shapes.shape[0] != ref_shapes.shape[0]:
-        raise ValueError(f"the records' shapes have {shapes.shape[0]} channels, the reference modes "
+    estimates = shape_matrix(modes)
+    if estimates.shape[0] != ref_shapes.shape[0]:
+        raise ValueError(f"the records' shapes have {estimates.shape[0]} channels, the reference modes "
                          f"{ref_shapes.shape[0]}: track the same channels")
     if not set(RANGE_COLUMNS) <= set(references.columns):
         references = observed_ranges(modes, references, freq_rtol, mac_min)
@@ -277,7 +282,7 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
     f = modes["freq_hz"].to_numpy(dtype=float)
     tracked_rows, matched = [], np.zeros(len(modes), dtype=bool)
     for _, rows in modes.groupby("record", sort=False).indices.items():
-        similarity = mac(shapes[:, rows], ref_shapes)
+        similarity = mac(estimates[:, rows], ref_shapes)
         within = (f[rows, None] >= low[None, :]) & (f[rows, None] <= high[None, :])
         allowed = within & (similarity >= mac_min)
         if not allowed.any():
@@ -290,8 +295,44 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
                 matched[rows[i]] = True
                 tracked_rows.append((rows[i], int(references["mode"].iloc[j]), float(similarity[i, j])))
     picked = [r for r, _, _ in tracked_rows]
-    tracked = modes.iloc[picked][["record", "time", "freq_hz", "freq_std_hz", "damping", "damping_std"]].copy()
+    tracked = modes.iloc[picked][["record", "time", "freq_hz", "freq_std_hz", "damping", "damping_std", *phi]].copy()
     tracked.insert(2, "mode", [m for _, m, _ in tracked_rows])
     tracked["mac"] = [s for _, _, s in tracked_rows]
     tracked = tracked.sort_values(["time", "record", "mode"], kind="stable").reset_index(drop=True)
-    return tracked[TRACKED_COLUMNS], modes[~matched].reset_index(drop=True)
+    return tracked[TRACKED_COLUMNS + phi], modes[~matched].reset_index(drop=True)
+
+
+def mean_shapes(tracked: pd.DataFrame, references: pd.DataFrame) -> pd.DataFrame:
+    """Each reference mode's mean shape over its tracked estimates.
+
+    Each estimate's shape (``tracked``'s ``phi_<k>`` columns, as
+    :func:`track_modes` gives them with ``shapes=True``) is scaled to unit
+    norm and turned to the sign of the reference's shape (a real shape's
+    sign is arbitrary: estimates of opposite signs would cancel), then the
+    mean is normalised as every shape is
+    (:func:`modal.identification.normalise_shapes`: unit norm, largest entry
+    positive).
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per reference mode tracked at least once: ``mode``,
+        ``freq_hz`` (the mean of the tracked estimates), ``n_estimates``,
+        ``mac_reference`` (the mean shape's MAC with the reference's),
+        ``phi_0``, ``phi_1``, ....
+    """
+    columns = ["mode", "freq_hz", "n_estimates", "mac_reference"]
+    phi = sorted((c for c in tracked.columns if str(c).startswith("phi_")), key=lambda c: int(c[4:]))
+    rows = []
+    for mode, reference in zip(references["mode"], shape_matrix(references).T):
+        members = tracked[tracked["mode"] == mode]
+        if members.empty:
+            continue
+        unit = _unit_shapes(shape_matrix(members))
+        signs = np.sign(reference @ unit)
+        mean = normalise_shapes((unit * np.where(signs == 0, 1.0, signs)).mean(axis=1)[:, None])[:, 0]
+        row = {"mode": int(mode), "freq_hz": float(members["freq_hz"].mean()), "n_estimates": len(members),
+               "mac_reference": float(mac(mean[:, None], reference[:, None])[0, 0])}
+        row.update(dict(zip(phi, mean)))
+        rows.append(row)
+    return pd.DataFrame(rows, columns=columns + phi)

@@ -54,7 +54,7 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     out : path-like
         The output folder (created; kept between runs). It receives
         ``tracked.csv``, ``untracked.csv``, ``failed.csv``, ``modes.csv``,
-        ``references.csv``, ``report.html``, the chunks' files under
+        ``references.csv``, ``tracked_shapes.csv``, ``report.html``, the chunks' files under
         ``chunks/`` and the jobs' logs under ``logs/``.
     cores : int
         Cores to use on this machine (with a cluster profile: jobs at once).

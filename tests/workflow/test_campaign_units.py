@@ -206,6 +206,146 @@ def test_chunks_are_consecutive_and_named_by_number():
     assert list(chunks(index, 5)) == ["c00000"] and chunks(index.iloc[:0], 3) == {}
 
 
+# -- the geometry the tracked shapes are drawn on --------------------------------
+
+def _geometry(folder, channels="channel,node,x,y,z,quantity,role\n0,1,1,0,0,acceleration,roving\n"):
+    """A two-storey stick (nodes 0, 1, 2 up z, lines between) and its
+    channel table in ``folder/geo``."""
+    (folder / "geo").mkdir(exist_ok=True)
+    (folder / "geo" / "nodes.csv").write_text("node,x,y,z\n0,0,0,0\n1,0,0,3\n2,0,0,6\n")
+    (folder / "geo" / "lines.csv").write_text("node_1,node_2\n0,1\n1,2\n")
+    (folder / "geo" / "channels.csv").write_text(channels)
+    return folder / "geo"
+
+
+def test_a_geometry_is_read_with_its_channel_table(folder):
+    """The geometry's folder and channel table are resolved, the table kept
+    as plain rows, each shape entry's record channel said; both are inputs
+    (an --out over them is refused)."""
+    _geometry(folder, "channel,node,x,y,z,quantity,unit,role\n2,1,1,0,0,acceleration,cm/s2,roving\n"
+                      "0,2,0,1,0,acceleration,,roving\n")
+    text = "records: {index: i.csv}\nidentify: {excitation: ambient, channels: [2, 0]}\n" \
+           "geometry: {folder: geo, channels: geo/channels.csv}\n"
+    config, index = read_campaign(write(folder, text))
+    geometry = config["geometry"]
+    assert geometry["folder"] == str(folder / "geo") and geometry["channels"] == str(folder / "geo" / "channels.csv")
+    assert geometry["shape_channels"] == [2, 0]
+    assert [(r["channel"], r["node"], r["x"], r["y"], r["unit"]) for r in geometry["table"]] == \
+        [(2, "1", 1.0, 0.0, "cm/s2"), (0, "2", 0.0, 1.0, "")]
+    assert all(type(r["channel"]) is int for r in geometry["table"])  # plain values, for the workflow's params
+    assert campaign_inputs(folder / "c.yaml", config, index)[2:4] == [folder / "geo", folder / "geo" / "channels.csv"]
+    # every channel by default
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo, "
+                                    "channels: geo/channels.csv}\n"))
+    assert config["geometry"]["shape_channels"] == [0, 1, 2]
+    assert read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))[0]["geometry"] is None
+
+
+def test_a_geometry_that_names_the_sensors_needs_no_channel_table(folder):
+    """pyOMA2's geometry 1 names the sensors: matched by name to the
+    channels of the layout's record (ch1, ch2, ch3 of an .npz)."""
+    (folder / "geo").mkdir()
+    (folder / "geo" / "sens_coord.txt").write_text("sName x y z\nch3 0 0 3\nch1 0 0 6\n")
+    (folder / "geo" / "sens_dir.txt").write_text("1 0 0\n0 1 0\n")
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo}\n"))
+    table = config["geometry"]["table"]
+    assert [(r["channel"], r["name"], r["x"], r["y"]) for r in table] == [(0, "ch1", 0.0, 1.0), (2, "ch3", 1.0, 0.0)]
+    assert config["geometry"]["channels"] is None
+    # no record reads: no names to match, no table (the records fail in their jobs)
+    for name in ("a", "b"):
+        (folder / f"{name}.npz").write_text("not a record")
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo}\n"))
+    assert config["geometry"]["table"] is None and config["geometry"]["shape_channels"] is None
+
+
+def test_geometry_refusals_name_the_key_and_the_file(folder):
+    records = "records: {index: i.csv}\n" + IDENTIFY
+    refused(folder, records + "geometry: {folder: nowhere}\n", "geometry.folder: geometry")
+    refused(folder, records + "geometry: {channels: c.csv}\n", "geometry: 'folder' is a required property")
+    refused(folder, records + "geometry: {folder: geo, colour: red}\n", "geometry: Additional properties")
+    _geometry(folder)
+    (folder / "geo" / "nodes.csv").write_text("node,x,y,z\n0,0,0,zero\n")
+    message = refused(folder, records + "geometry: {folder: geo, channels: geo/channels.csv}\n", "geometry.folder: ")
+    assert "nodes.csv: row 1, column z: 'zero' is not a number" in message
+    _geometry(folder)
+    refused(folder, records + "geometry: {folder: geo}\n", "geometry.folder: ")
+    assert "names no sensors: give geometry.channels" in refused(folder, records + "geometry: {folder: geo}\n", "")
+    refused(folder, records + "geometry: {folder: geo, channels: none.csv}\n",
+            f"geometry.channels: no file {folder / 'none.csv'}")
+    _geometry(folder, "channel,node,x,y,z,quantity,role\n0,9,1,0,0,acceleration,roving\n")
+    refused(folder, records + "geometry: {folder: geo, channels: geo/channels.csv}\n",
+            "geometry.channels: " + str(folder / "geo" / "channels.csv") + ": node(s) 9 not in the geometry")
+    _geometry(folder, "channel,node,x,y,z,quantity,role\n3,1,1,0,0,acceleration,roving\n")
+    refused(folder, records + "geometry: {folder: geo, channels: geo/channels.csv}\n",
+            "channel(s) [3] beyond the record's 3 columns")
+    _geometry(folder, "channel,node,x,y,z,quantity,role\n1,1,1,0,0,acceleration,roving\n"
+                      "2,2,1,0,0,acceleration,roving\n")
+    refused(folder, "records: {index: i.csv}\nidentify: {excitation: ambient, channels: [0, 1]}\n"
+            "geometry: {folder: geo, channels: geo/channels.csv}\n",
+            "geometry: channel(s) [2] of the channel table are not identified (identify.channels: 0, 1)")
+
+
+def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
+    """The mean shape of a mode: its estimates scaled to unit norm and turned
+    to the reference's sign before averaging (a plain mean of 2 v and -w
+    points elsewhere); drawn with each entry at its record channel's node and
+    direction (``shape_channels`` [2, 0, 1]: phi_0 is channel 2), in SI (cm/s2
+    x 0.01), the largest component 1; mode 2's picture holds mode 2's shape."""
+    from modal.campaign._report import drawn_shapes, shapes_figure
+    from modal.campaign._tracking import mean_shapes
+    from modal.setups import Geometry
+
+    references = pd.DataFrame({"mode": [1, 2], "freq_hz": [1.0, 3.0], "phi_0": [0.3, 0.9], "phi_1": [0.5, -0.6],
+                               "phi_2": [0.8, 0.1]})
+    v, w = np.array([0.3, 0.5, 0.8]), np.array([0.4, 0.5, 0.7])
+    tracked = pd.DataFrame({"mode": [1, 1, 2], "freq_hz": [1.0, 1.1, 3.0], "phi_0": [2 * v[0], -w[0], 0.9],
+                            "phi_1": [2 * v[1], -w[1], -0.6], "phi_2": [2 * v[2], -w[2], 0.1]})
+    mean = mean_shapes(tracked, references)
+    expected = v / np.linalg.norm(v) + w / np.linalg.norm(w)
+    expected /= np.linalg.norm(expected)
+    assert mean[["phi_0", "phi_1", "phi_2"]].to_numpy()[0] == pytest.approx(expected, abs=1e-12)
+    assert mean[["phi_0", "phi_1", "phi_2"]].to_numpy()[0] == pytest.approx([0.3632, 0.5173, 0.7749], abs=1e-4)
+    assert mean[["phi_0", "phi_1", "phi_2"]].to_numpy()[1] == pytest.approx(np.array([0.9, -0.6, 0.1]) / 1.0862780,
+                                                                            abs=1e-6)
+    assert mean["mode"].tolist() == [1, 2] and mean["n_estimates"].tolist() == [2, 1]
+    assert mean["freq_hz"].tolist() == pytest.approx([1.05, 3.0])
+    assert mean["mac_reference"].tolist() == pytest.approx([0.99513, 1.0], abs=1e-5)
+    assert mean_shapes(tracked[tracked["mode"] == 2], references)["mode"].tolist() == [2]  # mode 1: none tracked
+
+    geometry = Geometry(pd.DataFrame({"x": 0.0, "y": 0.0, "z": [0.0, 3.0, 6.0]}, index=pd.Index(["0", "1", "2"],
+                                     name="node")), lines=[("0", "1"), ("1", "2")])
+    table = pd.DataFrame({"channel": [0, 1, 2], "node": ["1", "2", "2"], "x": [1.0, 1.0, 0.0],
+                          "y": [0.0, 0.0, 1.0], "z": 0.0, "quantity": "acceleration", "unit": ["", "cm/s2", ""]})
+    table.loc[1, "unit"] = ""
+    drawn = drawn_shapes(mean, table, [2, 0, 1], geometry).set_index(["mode", "node"])
+    phi = mean[["phi_0", "phi_1", "phi_2"]].to_numpy()[0]
+    # node 1 along x: channel 0 = phi_1; node 2 along x: channel 1 = phi_2; along y: channel 2 = phi_0
+    assert drawn.loc[(1, "2"), ["x", "y", "z"]].tolist() == pytest.approx([1.0, phi[0] / phi[2], np.nan],
+                                                                         nan_ok=True)
+    assert drawn.loc[(1, "1"), "x"] == pytest.approx(phi[1] / phi[2])
+    assert drawn.loc[(1, "1"), "x"] == pytest.approx(0.6676, abs=1e-4)
+    assert drawn.loc[(2, "2"), "y"] == 1.0 and drawn.loc[(2, "2"), "x"] == pytest.approx(0.1 / 0.9)
+    assert drawn.loc[(2, "1"), "x"] == pytest.approx(-0.6 / 0.9)
+    assert (drawn[["x_im", "y_im", "z_im"]].fillna(0) == 0).all().all() and (drawn["flag"] == "").all()
+    # a channel in cm/s2 is brought to SI before the nodes are solved
+    table.loc[1, "unit"] = "cm/s2"
+    scaled = drawn_shapes(mean, table, [2, 0, 1], geometry).set_index(["mode", "node"])
+    # (node 1 then moves most: its x is the 1)
+    assert scaled.loc[(1, "1"), "x"] == 1.0 and scaled.loc[(1, "2"), "x"] == pytest.approx(0.01 * phi[2] / phi[1])
+    assert scaled.loc[(1, "2"), "y"] == pytest.approx(phi[0] / phi[1])
+    # the figure draws those numbers: per mode, the deformed line from node 1 to node 2 (after the dashed ones)
+    figure = shapes_figure(geometry, table.assign(unit=""), [2, 0, 1], mean)
+    titles = [ax.get_title() for ax in figure.axes]
+    assert titles == ["mode 1: 1.05 Hz (mean of 2)", "mode 2: 3 Hz (mean of 1)"]
+    for ax, mode in zip(figure.axes, (1, 2)):
+        deformed = ax.lines[3].get_data_3d()
+        assert deformed[0][0] / deformed[0][1] == pytest.approx(drawn.loc[(mode, "1"), "x"] / drawn.loc[(mode, "2"),
+                                                                                                          "x"])
+        assert deformed[1][1] / deformed[0][1] == pytest.approx(drawn.loc[(mode, "2"), "y"] / drawn.loc[(mode, "2"),
+                                                                                                          "x"])
+    assert shapes_figure(geometry, table, [2, 0, 1], mean.iloc[:0]) is None
+
+
 # -- a chunk's job --------------------------------------------------------------
 
 class Result:
