@@ -37,13 +37,22 @@ PEAK_PROMINENCE_DB = 6.0
 PEAK_HEIGHT_DB = 6.0
 PEAK_WINDOW = 0.25
 PEAK_WINDOW_BINS = 10
-#: A mode is supported by a peak within ``max(SUPPORT_BINS * df, zeta * f)``
-#: of its frequency: a couple of frequency bins, or its half-power band
-#: ``f (1 +- zeta)`` ...
+#: A mode is supported by a local maximum of a singular value within
+#: ``max(SUPPORT_BINS * df, zeta * f)`` of its frequency: a couple of
+#: frequency bins, or its half-power band ``f (1 +- zeta)`` ...
 SUPPORT_BINS = 2.0
-#: ... with the damping ratio taken at most this (a spurious mode's damping
-#: of 30 % would otherwise accept any peak in a wide band).
-SUPPORT_MAX_DAMPING = 0.05
+#: ... with the damping ratio taken at most this (the half-power band of a
+#: heavily damped mode; a spurious mode's damping of 30 % would otherwise
+#: accept any peak in a wide band) ...
+SUPPORT_MAX_DAMPING = 0.10
+#: ... that stands :data:`PEAK_PROMINENCE_DB` above the higher of the troughs
+#: on either side within this many of those half-widths (the prominence of
+#: ``scipy.signal.find_peaks`` with ``wlen``): the mode judged on its own
+#: scale. A single-degree-of-freedom peak falls by ``10 log10(1 + 4**2)``
+#: = 12.3 dB at 4 half-widths, so an isolated mode, however damped, passes
+#: with 6 dB to spare; a fixed window (:meth:`SingularValueSpectrum.peaks`,
+#: +-25 % of the frequency) sees a mode damped 8 % as the floor it stands on.
+SUPPORT_BANDWIDTHS = 4.0
 #: Columns of :func:`spectral_support`.
 SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz", "efdd_damping"]
 #: EFDD: the single-degree-of-freedom bell of a peak is the band around it
@@ -128,14 +137,58 @@ class SingularValueSpectrum:
                 height = db[index, k] - np.median(db[max(0, index - half):index + half + 1, k])
                 if height < height_db:
                     continue
-                left, centre, right = db[index - 1:index + 2, k]
-                curvature = left - 2 * centre + right
-                shift = 0.5 * (left - right) / curvature if curvature < 0 else 0.0
-                rows.append({"freq_hz": float(self.freq_hz[index] + shift * self.df), "sv_number": k + 1,
-                             "bin": int(index), "db": float(centre), "prominence_db": float(prominence),
+                rows.append({"freq_hz": self.refined_hz(index, k + 1), "sv_number": k + 1, "bin": int(index),
+                             "db": float(db[index, k]), "prominence_db": float(prominence),
                              "height_db": float(height)})
         frame = pd.DataFrame(rows, columns=["freq_hz", "sv_number", "bin", "db", "prominence_db", "height_db"])
         return frame.sort_values(["freq_hz", "sv_number"], ignore_index=True)
+
+    def refined_hz(self, index: int, sv_number: int = 1) -> float:
+        """Frequency (Hz) of the local maximum at bin ``index`` of singular
+        value ``sv_number``, refined by the parabola through the three bins
+        around it (in dB): exact for a Gaussian peak, better than a bin for
+        any smooth one."""
+        db = self.decibels()[:, sv_number - 1]
+        if not 0 < index < len(db) - 1:
+            return float(self.freq_hz[index])
+        left, centre, right = db[index - 1:index + 2]
+        curvature = left - 2 * centre + right
+        shift = 0.5 * (left - right) / curvature if curvature < 0 else 0.0
+        return float(self.freq_hz[index] + shift * self.df)
+
+    def supporting_peak(self, freq_hz: float, tolerance_hz: float, prominence_db=PEAK_PROMINENCE_DB):
+        """The local maximum of a singular value that supports a mode at
+        ``freq_hz`` whose half-power half-width is ``tolerance_hz``
+        (:func:`support_tolerance_hz`).
+
+        Of the local maxima of each singular value (in dB, above the first
+        two bins) within ``tolerance_hz`` of ``freq_hz``, those whose
+        prominence within :data:`SUPPORT_BANDWIDTHS` times ``tolerance_hz``
+        on either side (``scipy.signal.peak_prominences`` with that
+        ``wlen``) reaches ``prominence_db``; of these the nearest to
+        ``freq_hz``.
+
+        Returns
+        -------
+        tuple of (int, int, float) or None
+            ``(bin, sv_number, prominence_db)`` of that maximum, or None.
+        """
+        from scipy.signal import find_peaks, peak_prominences
+
+        db = self.decibels()
+        half = int(np.ceil(SUPPORT_BANDWIDTHS * tolerance_hz / self.df))
+        best = None
+        for k in range(db.shape[1]):
+            maxima, _ = find_peaks(db[:, k])
+            maxima = maxima[(maxima >= 2) & (np.abs(self.freq_hz[maxima] - freq_hz) <= tolerance_hz)]
+            if maxima.size == 0:
+                continue
+            prominences = peak_prominences(db[:, k], maxima, wlen=2 * half + 1)[0]
+            for index, prominence in zip(maxima, prominences):
+                distance = abs(self.freq_hz[index] - freq_hz)
+                if prominence >= prominence_db and (best is None or distance < best[0]):
+                    best = (distance, int(index), k + 1, float(prominence))
+        return None if best is None else best[1:]
 
 
 def fdd(y, dt, nperseg=None, n_values=N_VALUES) -> SingularValueSpectrum:
@@ -266,10 +319,14 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
                      prominence_db=PEAK_PROMINENCE_DB) -> pd.DataFrame:
     """Each mode checked against the peaks of the first singular values.
 
-    A mode is supported when a peak of one of the singular values
-    (:meth:`SingularValueSpectrum.peaks`) lies within
-    :func:`support_tolerance_hz` of its frequency; of several, the nearest
-    one counts.
+    A mode is supported when a local maximum of one of the singular values
+    lies within its half-power half-width (:func:`support_tolerance_hz`) and
+    stands ``prominence_db`` above the troughs on either side within
+    :data:`SUPPORT_BANDWIDTHS` half-widths
+    (:meth:`SingularValueSpectrum.supporting_peak`): its peak judged on the
+    mode's own scale, so that a heavily damped mode's broad peak counts as
+    a lightly damped mode's sharp one does; of several, the nearest one
+    counts. The damping is a ratio (0.05 for 5 %).
 
     Parameters
     ----------
@@ -281,8 +338,11 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         Their shapes (complex as identified, or real), at the channels of
         the spectrum.
     damping : array_like, shape (n_modes,), optional
-        Their damping ratios (widen the tolerance to the half-power bandwidth).
+        Their damping ratios, fractions of critical (widen the tolerance and
+        the prominence window to the half-power bandwidth); NaN or absent:
+        two bins.
     prominence_db : float
+        Prominence a supporting maximum needs (dB).
 
     Returns
     -------
@@ -302,23 +362,21 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
                          f"got {shapes.shape}")
     damping = np.full(freq_hz.size, np.nan) if damping is None else np.asarray(damping, dtype=float)
     tolerance = support_tolerance_hz(freq_hz, damping, spectrum.df)
-    peaks = spectrum.peaks(prominence_db)
+    bins = spectrum.peaks(prominence_db)["bin"].to_numpy()  # the neighbours that bound an EFDD bell
     rows = []
     for m, f in enumerate(freq_hz):
-        distance = np.abs(peaks["freq_hz"].to_numpy() - f)
-        near = np.flatnonzero(distance <= tolerance[m])
-        if near.size == 0:
+        peak = spectrum.supporting_peak(f, tolerance[m], prominence_db)
+        if peak is None:
             rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "spectral_support": False,
                          "efdd_freq_hz": np.nan, "efdd_damping": np.nan})
             continue
-        peak = peaks.iloc[near[np.argmin(distance[near])]]
-        vector = spectrum.vectors[int(peak["bin"]), :, int(peak["sv_number"]) - 1]
-        bins, here = peaks["bin"].to_numpy(), int(peak["bin"])
+        here, sv_number, _ = peak
+        vector = spectrum.vectors[here, :, sv_number - 1]
         below, above = bins[bins < here], bins[bins > here]
         limits = ((here + below.max()) // 2 + 1 if below.size else 1,
                   (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
-        efdd_freq_hz, efdd_damping = efdd(spectrum, here, int(peak["sv_number"]), limits)
-        rows.append({"sv_peak_hz": float(peak["freq_hz"]), "sv_number": int(peak["sv_number"]),
+        efdd_freq_hz, efdd_damping = efdd(spectrum, here, sv_number, limits)
+        rows.append({"sv_peak_hz": spectrum.refined_hz(here, sv_number), "sv_number": sv_number,
                      "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True,
                      "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
