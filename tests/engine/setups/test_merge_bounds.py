@@ -1,0 +1,189 @@
+"""The merge's bounds and edge cases, each just inside and just outside:
+the documented tolerances and limits of the checks that setups agree
+(levels 30 x, reference ratio 3 x, reference residual 0.2), references
+recorded in another unit and declared so, a setup that found no mode, a
+channel table with an index of its own. Synthetic identifications, as in
+``test_merge_checks`` (no identification is run)."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from modal.records import MeasuredRecord
+from modal.setups import Setup, merge_setups
+from modal.setups._agreement import rate_ratio, relative_uncertainty, tolerance
+
+from .test_merge_checks import NODES, _merged_shape, _setups, _truth
+
+
+def _levelled(setups, factors=None):
+    """``setups`` with every channel of unit standard deviation, the
+    reference channels of setup ``s`` then multiplied by ``factors[s]``
+    (one per reference channel)."""
+    out = []
+    for s, setup in enumerate(setups):
+        acc = setup.record.acc / setup.record.acc.std(axis=0)
+        if factors is not None and s in factors:
+            acc[:, :2] *= factors[s]
+        out.append(Setup(setup.name, MeasuredRecord(acc, setup.record.dt), setup.channels))
+    return out
+
+
+def test_documented_tolerances():
+    """docs/roving.md: the frequency tolerance is 3 combined standard
+    deviations kept within 0.2 % ... 3 %; a mode without an estimate counts
+    as 0.5 %, a mode at 0 Hz too (without a warning)."""
+    assert tolerance(1e-5, 0.0) == 0.002 and tolerance(0.5, 0.5) == 0.03
+    assert tolerance(0.004, 0.003) == pytest.approx(0.015)
+    modes = pd.DataFrame({"freq_hz": [2.0, 0.0, 0.0, 4.0], "freq_std_hz": [0.02, 0.0, 0.1, np.nan]})
+    np.testing.assert_array_equal(relative_uncertainty(modes), [0.01, 0.005, 0.005, 0.005])
+    none = pd.DataFrame({"freq_hz": [2.0, 3.0], "freq_std_hz": [None, None]})  # no estimate at all: object column
+    np.testing.assert_array_equal(relative_uncertainty(none), [0.005, 0.005])
+
+
+def test_rate_ratio_without_any_mode_lined_up_is_one():
+    """No pair within 5 x: the ratio is 1, nothing lined up (not e, nor
+    any other ratio)."""
+    assert rate_ratio([1.0], [100.0]) == (1.0, 0, 0)
+    assert rate_ratio([1.0, 2.0], [10.0, 20.0]) == (1.0, 0, 0)
+
+
+@pytest.mark.parametrize("factor, named", [(29.5, False), (30.5, True)])
+def test_reference_levels_up_to_30_times_apart_agree(factor, named):
+    """Three setups of equal levels, the references of s2 scaled by
+    ``factor``: 29.5 x is a stronger excitation, 30.5 x a unit slip."""
+    setups, results = _setups(3, _truth())
+    setups = _levelled(setups, {1: [factor, factor]})
+    merged = merge_setups(setups, results)
+    assert list(merged.disagreements["setup"]) == (["s2"] if named else [])
+    if named:
+        assert list(merged.disagreements["check"]) == ["reference levels"]
+        assert "its reference channels record 30.5 x the level of 2 of 2" in merged.disagreements["evidence"].iloc[0]
+    assert list(merged.modes["n_setups"]) == [2 + (not named)] * 3
+
+
+@pytest.mark.parametrize("factor, named", [(2.9, False), (3.1, True)])
+def test_reference_channels_up_to_3_times_apart_in_ratio_agree(factor, named):
+    """s2's second reference channel scaled by ``factor`` relative to its
+    first: 2.9 x is another direction of excitation, 3.1 x a slip."""
+    setups, results = _setups(3, _truth())
+    setups = _levelled(setups, {1: [1.0, factor]})
+    merged = merge_setups(setups, results)
+    assert list(merged.disagreements["setup"]) == (["s2"] if named else [])
+    if named:
+        assert list(merged.disagreements["check"]) == ["reference ratio"]
+        assert f"node r2 (0, 0, 1): {factor:.3g} (others 1)" in merged.disagreements["evidence"].iloc[0]
+
+
+def test_references_recorded_in_another_unit_and_declared_so_agree():
+    """s2 records its references in mm/s2 (1000 x the numbers) and says so
+    in its channel table: the same levels as the others, nothing named."""
+    setups, results = _setups(3, _truth())
+    setups = _levelled(setups, {1: [1000.0, 1000.0]})
+    table = setups[1].channels.copy()
+    table.loc[table["role"] == "reference", "unit"] = "mm/s2"
+    setups[1] = Setup("s2", setups[1].record, table)
+    merged = merge_setups(setups, results)
+    assert merged.disagreements.empty and list(merged.modes["n_setups"]) == [3, 3, 3]
+    setups[1] = Setup("s2", setups[1].record, table.assign(unit="m/s2"))  # the same numbers declared in m/s2
+    assert list(merge_setups(setups, results).disagreements["setup"]) == ["s2"]
+
+
+def _tilted(phi, value):
+    """``phi`` with its reference part (rows 0, 1) turned so that its MAC
+    with the original is ``value``, its norm kept."""
+    r = phi[:2]
+    unit = r / np.linalg.norm(r)
+    normal = np.array([-np.conj(unit[1]), np.conj(unit[0])])  # orthogonal to unit
+    out = phi.copy()
+    out[:2] = np.linalg.norm(r) * (np.sqrt(value) * unit + np.sqrt(1 - value) * normal)
+    return out
+
+
+@pytest.mark.parametrize("value, agrees", [(0.97, True), (0.95, False)])
+def test_a_reference_residual_up_to_0_2_agrees(value, agrees):
+    """s2's reference part of every mode turned to MAC ``value`` with the
+    others' (residual sqrt(1 - MAC) 0.17 or 0.22, the limit 0.2): merged,
+    or named for its reference shapes and left out."""
+    setups, results = _setups(3, _truth())
+    results[1].complex_shapes = np.column_stack([_tilted(results[1].complex_shapes[:, k], value) for k in range(3)])
+    merged = merge_setups(setups, results)
+    if agrees:
+        assert merged.disagreements.empty and list(merged.modes["n_setups"]) == [3, 3, 3]
+        np.testing.assert_allclose(merged.matches.query("setup == 's2'")["ref_mac"], value, rtol=1e-9)
+    else:
+        assert list(merged.disagreements["setup"]) == ["s2"]
+        assert list(merged.disagreements["check"]) == ["reference shapes"]
+        assert "(median MAC 0.95 over the modes paired by frequency)" in merged.disagreements["evidence"].iloc[0]
+        assert list(merged.modes["n_setups"]) == [2, 2, 2]
+
+
+def test_a_setup_that_found_no_mode_is_counted_as_missing():
+    """s2 selected no mode: the other two merge every mode (2 of 3), s2 is
+    not named as disagreeing (it has nothing to disagree with)."""
+    setups, results = _setups(3, _truth())
+    results[1].modes = results[1].modes.iloc[:0]
+    results[1].complex_shapes = results[1].complex_shapes[:, :0]
+    merged = merge_setups(setups, results)
+    assert merged.disagreements.empty
+    assert list(merged.modes["n_setups"]) == [2, 2, 2] and list(merged.modes["setups"]) == ["s1 s3"] * 3
+    assert "s2" not in set(merged.matches["setup"])
+
+
+def test_a_channel_table_with_an_index_of_its_own_merges_as_renumbered():
+    """Channel tables whose rows keep the index of a larger table (rows
+    picked from it, in another order): the same merge as the tables
+    renumbered 0, 1, ... (rows are positions, never labels)."""
+    truth = _truth()
+    setups, results = _setups(3, truth)
+    expected = merge_setups(setups, results)
+    picked = []
+    for setup in setups:
+        table = setup.channels.copy()
+        table.index = [7, 3, 9, 5][:len(table)]
+        picked.append(Setup(setup.name, setup.record, table))
+    merged = merge_setups(_levelled(picked), results)
+    pd.testing.assert_frame_equal(merged.modes, expected.modes)
+    pd.testing.assert_frame_equal(merged.shapes, expected.shapes)
+    for k in range(3):
+        rows, shape = _merged_shape(merged, k + 1)
+        exact = truth[[NODES.index(n) for n in rows.index], k]
+        ratio = shape.to_numpy() / exact
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+
+
+def test_swapped_references_are_seen_in_modes_paired_within_the_tolerance():
+    """s2's frequencies are 1 % above the others' (uncertainty 0.4 %, so
+    within the 1.7 % tolerance) and its references swapped: its modes are
+    still paired with the others' by frequency, and it is named."""
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(3, _truth(), shifts=[0.0, 0.01, 0.0])
+    _spoil(setups, results, 1, "swapped references")
+    merged = merge_setups(setups, results)
+    assert list(merged.disagreements["setup"]) == ["s2"]
+    assert list(merged.disagreements["check"]) == ["reference shapes"]
+
+
+def _with_modes(result, freqs, seed=0):
+    """``result`` holding modes at ``freqs`` (Hz), each with a random shape."""
+    rng = np.random.default_rng(seed)
+    n = result.complex_shapes.shape[0]
+    result.modes = pd.DataFrame({"mode": range(1, len(freqs) + 1), "freq_hz": freqs,
+                                 "freq_std_hz": 0.001 * np.asarray(freqs), "damping": 0.01})
+    result.complex_shapes = rng.standard_normal((n, len(freqs))) + 1j * rng.standard_normal((n, len(freqs)))
+
+
+@pytest.mark.parametrize("at_half, rate", [([1.5, 3.5, 5.5, 7.5], False), ([1.5, 3.5, 5.5, 7.5, 9.5], True)])
+def test_a_wrong_rate_needs_more_than_twice_as_many_modes_at_its_ratio_as_at_one(at_half, rate):
+    """s1 and s3 have modes at 3, 7, 11, 15, 19 Hz; s2 at 11 and 19 Hz
+    (at ratio 1) and at half of 4 or 5 of them: 4 is not more than twice
+    2, 5 is; a wrong rate is named then only."""
+    setups, results = _setups(3, _truth())
+    for s, freqs in enumerate([[3.0, 7.0, 11.0, 15.0, 19.0], at_half + [11.0, 19.0], [3.0, 7.0, 11.0, 15.0, 19.0]]):
+        _with_modes(results[s], freqs, seed=s % 2)  # s1 and s3 alike
+    ratio, lined, at_one = rate_ratio(results[1].modes["freq_hz"], results[0].modes["freq_hz"])
+    assert ratio == pytest.approx(0.5, rel=1e-12) and (lined, at_one) == (len(at_half), 2)
+    merged = merge_setups(setups, results)
+    named = set(zip(merged.disagreements["setup"], merged.disagreements["check"]))
+    assert (("s2", "rate") in named) == rate and {s for s, _ in named} <= {"s2"}
