@@ -4,6 +4,7 @@ other in one process, so start-up is paid once per chunk."""
 from __future__ import annotations
 
 import math
+import sys
 import warnings
 from pathlib import Path
 
@@ -14,7 +15,7 @@ MODE_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "
 FAILED_COLUMNS = ["record", "reason"]
 
 
-def identify_one(path, options, layout: dict | None = None):
+def identify_one(path, options, layout: dict | None = None, warned: list | None = None):
     """Modes of one record with ``modal identify``'s options
     (:class:`modal.IdentifyOptions`, or a mapping of them such as a campaign
     file's ``identify`` section): the :class:`Stabilisation`, or
@@ -23,7 +24,12 @@ def identify_one(path, options, layout: dict | None = None):
     ``layout`` (``record``, ``n_channels``, ``fs``: the campaign's first
     record, :func:`modal.campaign.read_campaign`) is what every record must
     share: a record with another channel count or rate (a file cut short, a
-    logger reconfigured) is refused before identification."""
+    logger reconfigured) is refused before identification.
+
+    The identification's warnings (a clipped channel, no mode selected, ...)
+    are not shown; each is appended to ``warned`` (a list, when given) as
+    ``"<category>: <message>"`` on one line, also when the identification
+    then fails."""
     from ..measured import identify_options, identify_record
     from ..records import read_record
     from ._config import channel_units
@@ -44,9 +50,13 @@ def identify_one(path, options, layout: dict | None = None):
             c = differ[0]
             raise ValueError(f"channel {c} in {units[c]}, the campaign's records in {expected[c]} "
                              f"(as {layout['record']}): the shapes would mix units")
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # "no mode selected" and the like: the table says it
-        result, _ = identify_record(record.acc, record.dt, options)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")  # each of them, however often one line of code warns
+        try:
+            result, _ = identify_record(record.acc, record.dt, options)
+        finally:
+            if warned is not None:
+                warned.extend(f"{w.category.__name__}: {' '.join(str(w.message).split())}" for w in caught)
     return result
 
 
@@ -57,7 +67,10 @@ def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout
     :data:`MODE_COLUMNS` and the real shape, ``phi_0``, ``phi_1``, ... over
     the channels used) and
     ``failed_csv`` (``record, reason``: could not be read or identified, or
-    does not share the campaign's ``layout``, :func:`identify_one`).
+    does not share the campaign's ``layout``, :func:`identify_one`). Each
+    warning of a record's identification (a clipped channel, no mode
+    selected, ...) is one line ``<record>: <category>: <message>`` on
+    standard error: the job's log.
 
     No record stops the others: any failure of one (an exception of any type,
     e.g. a reader's bare ``Exception`` on a corrupt file) puts it in
@@ -65,11 +78,15 @@ def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout
     response gives no row in either."""
     rows, failed = [], []
     for rec in records.itertuples():
+        warned = []
         try:
-            result = identify_one(rec.path, options, layout)
+            result = identify_one(rec.path, options, layout, warned)
         except Exception as exc:  # one record's failure, whatever its kind, is that record's
             failed.append({"record": rec.record, "reason": _reason(exc)})
             continue
+        finally:
+            for line in warned:
+                print(f"{rec.record}: {line}", file=sys.stderr)
         modes = result.modes
         trusted = (modes["flag"].fillna("") == "").to_numpy() if "flag" in modes else np.ones(len(modes), bool)
         for k in np.flatnonzero(trusted):  # a doubtful mode (its flag says why) is never tracked

@@ -346,6 +346,128 @@ def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
     assert shapes_figure(geometry, table, [2, 0, 1], mean.iloc[:0]) is None
 
 
+# -- the track and report steps -------------------------------------------------
+
+def _chunk_files(folder):
+    """Two chunks' files: records r0 ... r3, each with a mode of shape (1, 0.1)
+    near 2 Hz and one of shape (0.1, -1) near 5 Hz, r3's second mode with
+    shape (0.7, 0.7), matching neither; r4 failed."""
+    columns = ",".join(MODE_COLUMNS)
+    rows = []
+    for r, (f1, f2) in enumerate([(2.00, 5.00), (2.02, 5.05), (1.98, 4.95), (2.01, 5.02)]):
+        second = "0.7,0.7" if r == 3 else "-0.1,1.0"
+        rows.append(f"r{r},2025-01-0{r + 1},1,{f1},0.01,0.01,0.002,0.9,5,1.0,0.1")
+        rows.append(f"r{r},2025-01-0{r + 1},2,{f2},0.02,0.02,0.003,0.9,5,{second}")
+    (folder / "m0.csv").write_text(f"{columns},phi_0,phi_1\n" + "\n".join(rows[:4]) + "\n")
+    (folder / "m1.csv").write_text(f"{columns},phi_0,phi_1\n" + "\n".join(rows[4:]) + "\n")
+    (folder / "f0.csv").write_text("record,reason\n")
+    (folder / "f1.csv").write_text("record,reason\nr4,broken\n")
+    return [folder / "m0.csv", folder / "m1.csv"], [folder / "f0.csv", folder / "f1.csv"]
+
+
+TRACKING = {"reference_modes": None, "freq_rtol": 0.05, "mac_min": 0.8, "min_share": 0.3}
+
+
+def test_the_track_step_writes_every_table(tmp_path):
+    """track_campaign gathers the chunks and writes modes, failures,
+    references built from the campaign (seen in >= min_share of the
+    records), the tracked estimates (without their shapes), the untracked
+    ones and each mode's mean shape."""
+    from modal.campaign import track_campaign
+    from modal.campaign._tracking import TRACKED_COLUMNS
+
+    modes_files, failed_files = _chunk_files(tmp_path)
+    track_campaign(modes_files, failed_files, 5, TRACKING, tmp_path)
+    modes = pd.read_csv(tmp_path / "modes.csv")
+    assert len(modes) == 8 and modes["freq_hz"].tolist()[:3] == [2.0, 5.0, 2.02]
+    assert pd.read_csv(tmp_path / "failed.csv").to_dict("list") == {"record": ["r4"], "reason": ["broken"]}
+    references = pd.read_csv(tmp_path / "references.csv")
+    assert references["mode"].tolist() == [1, 2] and references["n_records"].tolist() == [4, 3]
+    assert references["freq_hz"].tolist() == pytest.approx([2.005, 5.0])
+    assert references[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.98, 2.02], [4.95, 5.05]]
+    tracked = pd.read_csv(tmp_path / "tracked.csv")
+    assert list(tracked.columns) == TRACKED_COLUMNS
+    assert list(zip(tracked["record"], tracked["mode"], tracked["freq_hz"])) == [
+        ("r0", 1, 2.0), ("r0", 2, 5.0), ("r1", 1, 2.02), ("r1", 2, 5.05), ("r2", 1, 1.98), ("r2", 2, 4.95),
+        ("r3", 1, 2.01)]
+    untracked = pd.read_csv(tmp_path / "untracked.csv")
+    assert untracked[["record", "freq_hz"]].values.tolist() == [["r3", 5.02]]
+    shapes = pd.read_csv(tmp_path / "tracked_shapes.csv")
+    assert shapes["mode"].tolist() == [1, 2] and shapes["n_estimates"].tolist() == [4, 3]
+    assert shapes[["phi_0", "phi_1"]].to_numpy() == pytest.approx(np.array([[1, 0.1], [-0.1, 1]]) / np.sqrt(1.01))
+    # the index itself counts its records: 20 of them, a mode in 4 is under min_share
+    track_campaign(modes_files, failed_files, pd.DataFrame({"record": range(20)}), TRACKING, tmp_path)
+    assert pd.read_csv(tmp_path / "references.csv").empty and pd.read_csv(tmp_path / "tracked.csv").empty
+    assert len(pd.read_csv(tmp_path / "untracked.csv")) == 8
+    # tight tolerances: r1's 2.02 Hz lies 0.75 % above the median; r3's first mode (MAC 0.99) matches at 0.8 only
+    track_campaign(modes_files, failed_files, 5, {**TRACKING, "freq_rtol": 0.001, "mac_min": 0.999}, tmp_path)
+    assert pd.read_csv(tmp_path / "references.csv").empty
+    track_campaign(modes_files, failed_files, 5, {**TRACKING, "min_share": 0.7}, tmp_path)
+    assert pd.read_csv(tmp_path / "references.csv")["mode"].tolist() == [1]
+
+
+def test_the_track_step_takes_given_references_with_their_observed_range(tmp_path):
+    """Given references (a file) get the range the campaign observed; the
+    built ones are not made; freq_rtol and mac_min reach the tracking."""
+    from modal.campaign import track_campaign
+
+    modes_files, failed_files = _chunk_files(tmp_path)
+    (tmp_path / "refs.csv").write_text("freq_hz,phi_a,phi_b\n2.1,1.0,0.0\n")
+    tracking = {**TRACKING, "reference_modes": str(tmp_path / "refs.csv")}
+    track_campaign(modes_files, failed_files, 5, tracking, tmp_path)
+    references = pd.read_csv(tmp_path / "references.csv")
+    assert references.to_dict("list") == {"mode": [1], "freq_hz": [2.1], "phi_0": [1.0], "phi_1": [0.0],
+                                          "freq_low_hz": [1.98], "freq_high_hz": [2.1]}
+    tracked = pd.read_csv(tmp_path / "tracked.csv")
+    assert tracked["freq_hz"].tolist() == [2.0, 2.02, 1.98, 2.01] and (tracked["mode"] == 1).all()
+    assert tracked["mac"].tolist() == pytest.approx([1 / 1.01] * 4)
+    assert pd.read_csv(tmp_path / "tracked_shapes.csv")["n_estimates"].tolist() == [4]
+    track_campaign(modes_files, failed_files, 5, {**tracking, "mac_min": 0.995}, tmp_path)
+    assert pd.read_csv(tmp_path / "tracked.csv").empty  # MAC 0.990 < 0.995
+    track_campaign(modes_files, failed_files, 5, {**tracking, "freq_rtol": 0.01}, tmp_path)
+    assert pd.read_csv(tmp_path / "tracked.csv").empty  # 2.1 Hz: no estimate within 1 %, no range
+
+
+def test_the_report_step_reads_the_tables_and_draws_the_shapes_given_a_geometry(tmp_path, monkeypatch):
+    """report_campaign hands campaign_report the track step's tables (times
+    as times), the campaign file's text, the command and the covariates;
+    with a geometry (and its channel table) the geometry read, the table and
+    the mean shapes; without a table or geometry, none."""
+    from modal.campaign import _report, report_campaign, track_campaign
+
+    modes_files, failed_files = _chunk_files(tmp_path)
+    track_campaign(modes_files, failed_files, 5, TRACKING, tmp_path)
+    _geometry(tmp_path, "channel,node,x,y,z,quantity,role\n0,1,1,0,0,acceleration,roving\n"
+                        "1,2,0,1,0,acceleration,roving\n")
+    (tmp_path / "c.yaml").write_text("chunk: 3\n")
+    geometry = {"folder": str(tmp_path / "geo"), "channels": None, "shape_channels": [0, 1],
+                "table": [{"channel": 0, "node": "1", "x": 1.0, "y": 0.0, "z": 0.0, "quantity": "acceleration",
+                           "unit": ""}, {"channel": 1, "node": "2", "x": 0.0, "y": 1.0, "z": 0.0,
+                                         "quantity": "acceleration", "unit": ""}]}
+    report_campaign(tmp_path, 5, tmp_path / "c.yaml", "modal campaign c.yaml", geometry=geometry,
+                    covariates={"record": ["r0", "r1", "r2", "r3"], "temperature_c": [1.0, 2.0, 3.0, 4.0]})
+    text = (tmp_path / "report.html").read_text()
+    assert text.count("<img") == 4 and "<h2>Tracked shapes</h2>" in text and "Frequency against" in text
+    assert "<b>5</b> records: <b>4</b> identified, <b>1</b> failed" in text and "r4" in text
+    assert "modal campaign c.yaml" in text and "chunk: 3" in text
+    received = {}
+    monkeypatch.setattr(_report, "campaign_report", lambda *args, **keywords: received.update(args=args, **keywords))
+    report_campaign(tmp_path, 5, tmp_path / "c.yaml", "cmd", geometry=geometry)
+    path, tracked, untracked, failed, references, n_records, config_text, command = received["args"]
+    assert path == tmp_path / "report.html" and n_records == 5 and config_text == "chunk: 3\n" and command == "cmd"
+    assert str(tracked["time"].dtype).startswith("datetime64") and len(tracked) == 7 and len(untracked) == 1
+    assert failed["record"].tolist() == ["r4"] and references["mode"].tolist() == [1, 2]
+    assert received["covariates"] is None
+    drawing, table, channels = received["geometry"]
+    assert list(drawing.nodes.index) == ["0", "1", "2"] and table["node"].tolist() == ["1", "2"] and channels == [0, 1]
+    assert received["shapes"]["n_estimates"].tolist() == [4, 3]
+    report_campaign(tmp_path, 5, tmp_path / "c.yaml", "cmd", covariates={"record": ["r0"], "t": [1.0]})
+    assert received["geometry"] is None and received["shapes"] is None
+    assert received["covariates"].to_dict("list") == {"record": ["r0"], "t": [1.0]}
+    report_campaign(tmp_path, 5, tmp_path / "c.yaml", "cmd", geometry={**geometry, "table": None})
+    assert received["geometry"] is None and received["shapes"] is None
+
+
 # -- a chunk's job --------------------------------------------------------------
 
 class Result:
@@ -409,6 +531,44 @@ def test_a_chunk_writes_each_mode_and_each_failure(folder, stand_in, tmp_path):
     assert list(pd.read_csv(failed_csv)["record"]) == ["broken"]
     identify_chunk(records.iloc[:2], config["identify"], modes_csv, failed_csv)
     assert failed_csv.read_text() == "record,reason\n"  # none failed: a header still
+
+
+def test_each_warning_of_a_record_is_one_line_in_the_jobs_log(folder, monkeypatch, tmp_path, capsys):
+    """A record's warnings (a clipped channel, ...) are not lost: each is a
+    line of the job's log (standard error) naming the record, every time
+    it is given (one line of code warning twice gives two), also for a
+    record whose identification then fails; identify_one hands them over."""
+    import warnings
+
+    from modal.identification import ModalWarning
+
+    def identify_record(acc, dt, options):
+        for channel in (0, 2):
+            warnings.warn(f"channel {channel} clipped:\n 5 samples at its extreme", ModalWarning)
+        if acc.shape[0] < 400:
+            raise ValueError("too short")
+        return Result(acc, dt), None
+
+    monkeypatch.setattr(modal.measured, "identify_record", identify_record)
+    config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
+    modal.save_record_npz(folder / "cut.npz", modal.read_record(folder / "a.npz").acc[:300], 0.05)
+    records = pd.concat([index.iloc[:1], pd.DataFrame({"record": ["cut"], "path": [str(folder / "cut.npz")],
+                                                       "time": pd.Timestamp("2025-06-01")})], ignore_index=True)
+    capsys.readouterr()
+    identify_chunk(records, config["identify"], tmp_path / "m.csv", tmp_path / "f.csv", config["layout"])
+    assert capsys.readouterr().err.splitlines() == [
+        "a.npz: ModalWarning: channel 0 clipped: 5 samples at its extreme",
+        "a.npz: ModalWarning: channel 2 clipped: 5 samples at its extreme",
+        "cut: ModalWarning: channel 0 clipped: 5 samples at its extreme",
+        "cut: ModalWarning: channel 2 clipped: 5 samples at its extreme"]
+    assert pd.read_csv(tmp_path / "f.csv")["reason"].tolist() == ["too short"]
+    warned = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # none escapes identify_one
+        identify_one(folder / "a.npz", config["identify"], warned=warned)
+    assert warned == ["ModalWarning: channel 0 clipped: 5 samples at its extreme",
+                      "ModalWarning: channel 2 clipped: 5 samples at its extreme"]
+    assert identify_one(folder / "a.npz", config["identify"]).modes["mode"].tolist() == [1, 2]
 
 
 def _lvm(path, unit, n=400):
