@@ -202,7 +202,7 @@ def reference_modes(modes: pd.DataFrame, n_records: int, freq_rtol=0.05, min_sha
             continue
         medoid = _medoid(shapes, members)
         row = {"freq_hz": float(np.median(f[members])), "n_records": int(seen),
-               "freq_low_hz": float(f[members].min()), "freq_high_hz": float(f[members].max())}
+               **dict(zip(RANGE_COLUMNS, (float(f[members].min()), float(f[members].max()))))}
         row.update({f"phi_{c}": v for c, v in enumerate(shapes[:, medoid])})
         rows.append(row)
     if not rows:
@@ -238,7 +238,7 @@ def observed_ranges(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.0
                 continue
             members = matching[band == band[nearest]]
             low[j], high[j] = min(members.min(), centre), max(members.max(), centre)
-    out["freq_low_hz"], out["freq_high_hz"] = low, high
+    out[RANGE_COLUMNS[0]], out[RANGE_COLUMNS[1]] = low, high
     return out
 
 
@@ -277,8 +277,8 @@ def track_modes(modes: pd.DataFrame, references: pd.DataFrame, freq_rtol=0.05, m
     if not set(RANGE_COLUMNS) <= set(references.columns):
         references = observed_ranges(modes, references, freq_rtol, mac_min)
     f_ref = references["freq_hz"].to_numpy(dtype=float)
-    low = references["freq_low_hz"].to_numpy(dtype=float) * (1 - freq_rtol)
-    high = references["freq_high_hz"].to_numpy(dtype=float) * (1 + freq_rtol)
+    low = references[RANGE_COLUMNS[0]].to_numpy(dtype=float) * (1 - freq_rtol)
+    high = references[RANGE_COLUMNS[1]].to_numpy(dtype=float) * (1 + freq_rtol)
     f = modes["freq_hz"].to_numpy(dtype=float)
     tracked_rows, matched = [], np.zeros(len(modes), dtype=bool)
     for _, rows in modes.groupby("record", sort=False).indices.items():

@@ -269,3 +269,58 @@ def test_true_references_follow_a_drift_beyond_five_percent(crossing):
     reference = dict(zip(references["mode"], references["freq_hz"]))
     drifted = [key for key in found if abs(by_mode[key] / reference[key[1]] - 1) > 0.05]
     assert len(drifted) >= 5  # drifted beyond 5 %, still tracked
+
+
+def test_reference_modes_are_read_renumbered_by_frequency(tmp_path):
+    """A reference file's modes: numbered 1, 2, ... by frequency (equal
+    frequencies keep the file's order), its shape columns phi_... renamed
+    phi_0, phi_1, ... in file order, other columns left out; a file without
+    freq_hz or without shape columns is refused."""
+    from modal.campaign import read_reference_modes
+
+    (tmp_path / "r.csv").write_text("mode,freq_hz,phi_top,phi_mid,other\n7,5.0,0.1,-1,x\n3,2.0,1,0.5,y\n")
+    table = read_reference_modes(tmp_path / "r.csv")
+    assert table.to_dict("list") == {"mode": [1, 2], "freq_hz": [2.0, 5.0], "phi_0": [1.0, 0.1],
+                                     "phi_1": [0.5, -1.0]}
+    assert table["phi_0"].dtype == float and table["freq_hz"].dtype == float
+    many = pd.DataFrame({"freq_hz": np.r_[np.ones(50), np.zeros(50)], "phi_a": np.arange(100)})
+    many.to_csv(tmp_path / "many.csv", index=False)
+    table = read_reference_modes(tmp_path / "many.csv")
+    assert table["phi_0"].tolist() == list(range(50, 100)) + list(range(50))
+    assert table["mode"].tolist() == list(range(1, 101))
+    for text in ("freq,phi_0\n1.0,1.0\n", "freq_hz,shape\n1.0,1.0\n"):
+        (tmp_path / "bad.csv").write_text(text)
+        with pytest.raises(ValueError, match="bad.csv: reference modes need a freq_hz column and shape columns"):
+            read_reference_modes(tmp_path / "bad.csv")
+
+
+def test_large_campaigns_are_clustered_on_a_sample_of_records():
+    """Over 1000 records, the references are built from 1000 of them, evenly
+    spread in time, and the records counted for min_share scale alike: a
+    mode in each of 1001 records of a 2002-record campaign is in 1000 of the
+    sample, half of its 2000 records' share (kept at min_share 0.5)."""
+    from modal.campaign._tracking import REFERENCE_SAMPLE
+
+    assert REFERENCE_SAMPLE == 1000
+    n = 1001  # one mode drifting slowly from 1 to 100 Hz: one chain of neighbours
+    modes = _modes([(f"r{r:04d}", float(100 ** (r / (n - 1))), X) for r in range(n)])
+    references = reference_modes(modes, n_records=2 * n, min_share=0.5)
+    assert references["n_records"].tolist() == [1000]
+    assert references[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.0, 100.0]]
+    assert reference_modes(modes, n_records=2 * n + 4, min_share=0.5).empty  # 2006 x 1000 / 1001 > 2000
+    assert reference_modes(modes.iloc[:1000], n_records=2000, min_share=0.5)["n_records"].tolist() == [1000]
+
+
+def test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread():
+    """A reference's shape is the estimate of largest summed MAC with the
+    others (the medoid); of a 401-estimate cluster, 400 evenly spread are
+    compared: index 399 in frequency order is left out. Here it is the
+    central shape (400 others at +-5 degrees about it): with all 401
+    compared it would be the reference."""
+    from modal.campaign._tracking import MEDOID_SAMPLE
+
+    assert MEDOID_SAMPLE == 400
+    rows = [(f"r{k:03d}", 2.0 * (1 + 1e-5 * k), _unit(0 if k == 399 else (5 if k % 2 else -5))) for k in range(401)]
+    references = reference_modes(_modes(rows), n_records=401)
+    assert abs(references["phi_1"].iloc[0]) == pytest.approx(np.sin(np.radians(5)))
+    assert reference_modes(_modes(rows[:400]), n_records=400)[["phi_0", "phi_1"]].to_numpy().tolist() == [[1.0, 0.0]]
