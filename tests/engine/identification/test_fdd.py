@@ -144,8 +144,8 @@ def test_a_mode_far_from_any_peak_has_no_support():
     assert support.loc[1, "sv_number"] == 0
     # The tolerance: two bins, or the half-power band f (1 +- zeta), zeta clipped at 10 %.
     df = spectrum.df
-    tolerance = modal.identification._fdd.support_tolerance_hz([1.0, 2.0, 2.0, 9.0, 3.0], [0.0, 0.3, np.nan, 0.01, 0.08],
-                                                               df)
+    tolerance = modal.identification._fdd.support_tolerance_hz(
+        [1.0, 2.0, 2.0, 9.0, 3.0], [0.0, 0.3, np.nan, 0.01, 0.08], df)
     np.testing.assert_allclose(tolerance, [2 * df, 0.1 * 2.0, 2 * df, max(2 * df, 0.09), 0.24])
 
 
