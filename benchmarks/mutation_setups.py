@@ -57,7 +57,7 @@ READING = [SETUPS + t for t in (
     "test_unit_spellings_are_one_unit", "test_a_unit_of_another_quantity_is_refused",
     "test_pyoma_setup_in_latin1_reads_as_in_utf8", "test_channel_table_with_xyz_and_angles_that_disagree_is_refused",
     "test_geometry_files_name_the_bad_row", "test_a_setup_given_twice_through_a_link_is_refused")] + [
-    "tests/workflow/test_config_refusals.py::test_roving_test_refusals"]
+    "tests/workflow/test_config_refusals.py::test_roving_test_refusals", "tests/engine/setups/test_setup_reading.py"]
 
 #: Identifications (seconds each) and whole commands, last.
 IDENTIFYING = [
@@ -69,11 +69,16 @@ IDENTIFYING = [
 
 machinery.TARGETS = [(f"modal/setups/{name}", None)
                      for name in ("_agreement.py", "_merge.py", "_channels.py", "_geometry.py", "_results.py")]
-machinery.TESTS = {
+#: The tests of reading a setup (read_setup, check_setups).
+SETUP_FILES = [SETUPS + "test_pyoma_layout_is_read", SETUPS + "test_a_setup_given_twice_through_a_link_is_refused",
+               "tests/engine/setups/test_setup_reading.py"]
+
+machinery.TESTS = {  # each module's: what reaches it, not more (a survivor runs them all)
     "_agreement.py": SYNTHETIC + IDENTIFYING[-1:],
-    "_merge.py": SYNTHETIC + READING + IDENTIFYING,
-    "_channels.py": READING + SYNTHETIC + IDENTIFYING,
-    "_geometry.py": READING + SYNTHETIC + IDENTIFYING[2:],
+    "_merge.py": SYNTHETIC + SETUP_FILES + IDENTIFYING,
+    "_channels.py": READING + SYNTHETIC + IDENTIFYING[:1],
+    "_geometry.py": READING + [CHECKS + "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes"]
+    + IDENTIFYING[2:4],
     "_results.py": IDENTIFYING[2:],
 }
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_setups_equivalent.txt"

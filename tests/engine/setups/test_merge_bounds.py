@@ -45,6 +45,8 @@ def test_rate_ratio_without_any_mode_lined_up_is_one():
     """No pair within 5 x: the ratio is 1, nothing lined up (not e, nor
     any other ratio)."""
     assert rate_ratio([1.0], [100.0]) == (1.0, 0, 0)
+    ratio, lined, at_one = rate_ratio([5.0], [1.0])  # 5 x is still a ratio looked at
+    assert ratio == pytest.approx(5.0, rel=1e-12) and (lined, at_one) == (1, 0)
     assert rate_ratio([1.0, 2.0], [10.0, 20.0]) == (1.0, 0, 0)
 
 
@@ -187,3 +189,174 @@ def test_a_wrong_rate_needs_more_than_twice_as_many_modes_at_its_ratio_as_at_one
     merged = merge_setups(setups, results)
     named = set(zip(merged.disagreements["setup"], merged.disagreements["check"]))
     assert (("s2", "rate") in named) == rate and {s for s, _ in named} <= {"s2"}
+
+
+def _two_modes(results):
+    for r in results:
+        r.modes, r.complex_shapes = r.modes.iloc[:2], r.complex_shapes[:, :2]
+
+
+def test_reference_shapes_of_two_modes_judge_a_setup_by_their_majority():
+    """Setups with two modes each: s2's references swapped in both modes is
+    a bad setup (two paired modes are enough); its reference part wrong in
+    one mode of two is not (not more than half): it is left out of that
+    mode only."""
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(3, _truth())
+    _two_modes(results)
+    _spoil(setups, results, 1, "swapped references")
+    merged = merge_setups(setups, results)
+    assert set(zip(merged.disagreements["setup"], merged.disagreements["check"])) == {("s2", "reference shapes")}
+    setups, results = _setups(3, _truth())
+    _two_modes(results)
+    results[1].complex_shapes = results[1].complex_shapes.copy()
+    results[1].complex_shapes[:2, 0] = results[1].complex_shapes[[1, 0], 0]
+    merged = merge_setups(setups, results)
+    assert merged.disagreements.empty and list(merged.modes["n_setups"]) == [2, 3]
+    assert list(merged.matches.query("status == 'left out'")[["setup", "mode"]].itertuples(index=False)) == [("s2", 1)]
+
+
+def test_with_two_setups_the_evidence_says_which_one_cannot_be_told():
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(2, _truth())
+    _spoil(setups, results, 1, "wrong rate")
+    evidence = merge_setups(setups, results).disagreements.set_index("setup")["evidence"]
+    assert evidence["s2"] == ("its frequencies are 0.5 x those of 1 of 1 other setup(s) (s1; with two setups, which one "
+                              "is wrong cannot be told): a wrong sampling rate (setup_info.txt, --fs, the record's time "
+                              "column)?")
+
+
+def test_the_evidence_of_a_reference_ratio_lists_every_reference():
+    """Three reference channels (r1, r2, n9 in every setup), s2's third
+    scaled by 4: the evidence lists r2 and n9 relative to r1, each with
+    the others' value."""
+    truth = _truth()
+    setups, results = _setups(3, truth)
+    setups = _levelled(setups)
+    for s, (setup, result) in enumerate(zip(setups, results)):
+        table = setup.channels.copy()
+        table.loc[2, ["node", "role"]] = ["n9", "reference"]
+        acc = setup.record.acc.copy()
+        if s == 1:
+            acc[:, 2] *= 4.0
+        setups[s] = Setup(setup.name, MeasuredRecord(acc, setup.record.dt), table)
+        scale = result.complex_shapes[0] / truth[0]
+        result.complex_shapes = result.complex_shapes.copy()
+        result.complex_shapes[2] = truth[NODES.index("n9")] * scale
+    merged = merge_setups(setups, results)
+    assert list(merged.disagreements["setup"]) == ["s2"]
+    evidence = merged.disagreements["evidence"].iloc[0]
+    assert evidence.startswith("the levels of its reference channels relative to node r1 (0, 0, 1) (node r2 (0, 0, 1): "
+                               "1 (others 1), node n9 (0, 0, 1): 4 (others 1)) differ from those of 2 of 2 other "
+                               "setup(s) (s1, s3) by up to 4 x"), evidence
+
+
+def test_modes_exactly_at_the_largest_tolerance_are_paired():
+    """s2's modes at 100 and 200 Hz, the others' at 103 and 206 Hz: 3 % of
+    s2's apart, the largest tolerance (their uncertainty 5 %), so still
+    paired; s2's references swapped are seen."""
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(3, _truth())
+    _two_modes(results)
+    for s, result in enumerate(results):
+        freq = np.array([100.0, 200.0]) * (1.0 if s == 1 else 1.03)
+        result.modes = result.modes.assign(freq_hz=freq, freq_std_hz=0.05 * freq)
+    _spoil(setups, results, 1, "swapped references")
+    merged = merge_setups(setups, results)
+    assert set(zip(merged.disagreements["setup"], merged.disagreements["check"])) == {("s2", "reference shapes")}
+
+
+def test_setups_that_cannot_be_merged_are_refused_naming_them():
+    from modal.setups import check_setups, identify_setup
+
+    setups, results = _setups(3, _truth())
+    assert check_setups(setups) == [("r1", 0.0, 0.0, 1.0), ("r2", 0.0, 0.0, 1.0)]
+    with pytest.raises(ValueError, match=r"^setups: none given$"):
+        check_setups([])
+    with pytest.raises(ValueError, match=r"^setups: names repeat \(s1, s2, s1\); each setup needs a name of its own$"):
+        check_setups([setups[0], setups[1], setups[0]])
+    roving = [Setup(s.name, s.record, s.channels.assign(role="roving")) for s in setups]
+    assert check_setups(roving[:1]) == []  # one setup needs none
+    with pytest.raises(ValueError, match=r"^setup s1: no reference channel: several setups are merged through the "
+                                         r"reference channels \(role reference\), present in every setup$"):
+        check_setups(roving[:2])
+    moved = setups[1].channels.copy()
+    moved.loc[1, "node"] = "n9"
+    with pytest.raises(ValueError, match=r"^setup s2: its reference channels differ from setup s1's: missing node r2 "
+                                         r"along \(0, 0, 1\); extra node n9 along \(0, 0, 1\)$"):
+        check_setups([setups[0], Setup("s2", setups[1].record, moved)])
+    with pytest.raises(ValueError, match=r"^setup s2: its reference channels differ from setup s1's: missing node r2 "
+                                         r"along \(0, 0, 1\)$"):
+        check_setups([setups[0], Setup("s2", setups[1].record, setups[1].channels.assign(role=["reference", "roving",
+                                                                                                 "roving", "roving"]))])
+    with pytest.raises(ValueError, match=r"^setup s2: its reference channels differ from setup s1's: extra node n2 "
+                                         r"along \(0, 0, 1\)$"):
+        check_setups([setups[0], Setup("s2", setups[1].record, setups[1].channels.assign(role=["reference"] * 3
+                                                                                         + ["roving"]))])
+    with pytest.raises(ValueError, match=r"^results: 2 for 3 setups$"):
+        merge_setups(setups, results[:2])
+    with pytest.raises(ValueError, match=r"^channels, quantities: a setup's channel table says which channels are used, "
+                                         r"which are references and what they measure$"):
+        identify_setup(setups[0], "ambient", channels=[0, 1], quantities=["acceleration"] * 2)
+
+
+@pytest.mark.parametrize("flags, expected", [
+    (["low MPC", "low MPC", "no spectral peak"], "doubtful in every setup that selected it (low MPC)"),
+    (["no spectral peak", "", "no spectral peak"], ""),
+    (["no spectral peak", np.nan, "low MPC"], ""),
+])
+def test_a_mode_every_setup_flags_keeps_their_most_common_reason(flags, expected):
+    """Mode 2 flagged as doubtful by each setup (its most common reason
+    kept) or not by one of them (a blank or a missing flag: trusted)."""
+    setups, results = _setups(3, _truth())
+    for result, flag in zip(results, flags):
+        result.modes["flag"] = ["", flag, ""]
+    merged = merge_setups(setups, results)
+    assert list(merged.modes["flag"]) == ["", expected, ""]
+
+
+def test_a_setup_and_a_merge_cannot_be_changed_afterwards():
+    """Frozen records: a setup's name or a merge's tables are not
+    reassigned by code that holds them (the report and the files would then
+    disagree)."""
+    import dataclasses
+
+    setups, results = _setups(3, _truth())
+    merged = merge_setups(setups, results)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        setups[0].name = "s9"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        merged.modes = merged.modes.iloc[:1]
+
+
+def test_a_merged_complex_mode_keeps_the_truths_phase_collinearity():
+    """The merged complex shape is the truth times one number, so its MPC
+    is the truth's at the same nodes (below 1), and one setup alone has no
+    spread (NaN), its own reference MAC none (NaN)."""
+    from modal import modal_phase_collinearity
+
+    truth = _truth(complex_modes=True)
+    setups, results = _setups(5, truth)
+    merged = merge_setups(setups, results)
+    for k in range(3):
+        rows, _ = _merged_shape(merged, k + 1)
+        exact = truth[[NODES.index(n) for n in rows.index], k]
+        assert merged.modes["mpc"].iloc[k] == pytest.approx(modal_phase_collinearity(exact[:, None])[0], rel=1e-9)
+    assert (merged.modes["mpc"] < 0.95).all()
+    alone = merge_setups(setups[:1], results[:1])
+    assert list(alone.modes["n_setups"]) == [1, 1, 1]
+    assert alone.modes[["freq_spread_hz", "damping_spread", "ref_mac"]].isna().all().all()
+    np.testing.assert_array_equal(alone.modes["freq_hz"], results[0].modes["freq_hz"])
+
+
+@pytest.mark.parametrize("freq_rtol, n_modes", [(None, 3), (0.01, 3), (0.002, 6)])
+def test_a_fixed_frequency_tolerance_is_used_when_given(freq_rtol, n_modes):
+    """s2 0.5 % above s1 (uncertainty 0.4 %): one mode each within the
+    modes' own tolerance or a fixed 1 %, two apart within a fixed 0.2 %
+    (then each seen by one setup, kept with min_setups 1)."""
+    setups, results = _setups(2, _truth(), shifts=[0.0, 0.005])
+    merged = merge_setups(setups, results, freq_rtol=freq_rtol, min_setups=1)
+    assert len(merged.modes) == n_modes and set(merged.modes["n_setups"]) == {6 // n_modes}

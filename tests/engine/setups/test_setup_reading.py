@@ -18,6 +18,7 @@ SETUP_1 = DATA / "roving_plate" / "setup_1"
 def test_a_setup_folder_is_named_after_it_and_reads_its_one_record(tmp_path):
     shutil.copytree(SETUP_1, tmp_path / "north")
     (tmp_path / "north" / "notes.md").write_text("not a record")
+    (tmp_path / "north" / "old.npz").mkdir()  # a folder, whatever its name, is not a record
     setup = read_setup(tmp_path / "north", geometry=read_geometry(DATA / "roving_plate" / "geometry"))
     assert setup.name == "north" and setup.path == tmp_path / "north"
     assert setup.record.acc.shape[1] == 5 and list(setup.channels["channel"]) == [0, 1, 2, 3, 4]
@@ -73,3 +74,15 @@ def test_pyoma_setup_refusals_name_the_channel_and_the_nodes(tmp_path):
     assert setup.record.fs == 100 and setup.name == "n"
     with pytest.raises(ValueError, match="states 100 Hz, --fs 100.001 Hz"):
         read_setup(folder, fs=100.001)
+
+
+def test_a_record_alone_takes_its_channel_table_from_a_geometry_naming_its_sensors():
+    """pyOMA2's geometry names the Palisaden record's six channels: the
+    record alone is a setup (named after the file), every channel a
+    reference, in the record's order."""
+    geometry = read_geometry(DATA / "palisaden_geometry")
+    setup = read_setup(DATA / "palisaden_20hz_30min.npy", fs=20, geometry=geometry)
+    assert setup.name == "palisaden_20hz_30min" and setup.record.fs == 20 and setup.record.acc.shape == (36000, 6)
+    assert list(setup.channels["channel"]) == [0, 1, 2, 3, 4, 5] and set(setup.channels["role"]) == {"reference"}
+    np.testing.assert_array_equal(setup.channels.set_index("name").loc[["ch5", "ch6", "ch2"], ["x", "y"]].to_numpy(float),
+                                  [[-1, 0], [0, 1], [0, -1]])
