@@ -26,9 +26,17 @@ AUTO_ROWS = 200
 #: Ambient records are also cut into this many non-overlapping segments,
 #: whose correlations give the standard deviation of each frequency and
 #: damping (:func:`modal.identification.segment_std`): fewer when a segment
-#: would be shorter than twice the lags, none below :data:`MIN_SEGMENTS`.
+#: would be shorter than :data:`SEGMENT_LAGS` times the lags, but at least
+#: :data:`MIN_SEGMENTS` (then shorter, down to twice the lags; none below).
 SEGMENTS = 10
 MIN_SEGMENTS = 4
+#: A segment's correlation at lag ``tau`` averages ``length - tau`` products
+#: and is tapered by ``1 - tau / length``: segments of only 2.5 times the lags
+#: (ten of a 2-minute record) scatter in another regime than the record, and
+#: their spread made the damping std of the higher modes 1.3-1.9 times too
+#: small (bench_uncertainty.py); at six times the lags the taper stays above
+#: 0.83.
+SEGMENT_LAGS = 6
 
 
 def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
@@ -330,7 +338,7 @@ def identify_record(
         _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs)
         log(f"correlations: {n_lags} lags, references {list(range(n_channels)) if refs is None else list(refs)}")
         data, start, cols = correlations(y, n_lags, refs=refs), 0, None
-        n_segments = min(SEGMENTS, y.shape[0] // (2 * n_lags))
+        n_segments = min(SEGMENTS, max(MIN_SEGMENTS, y.shape[0] // (SEGMENT_LAGS * n_lags)), y.shape[0] // (2 * n_lags))
         chosen.update(n_lags=n_lags, references=[labels[r] for r in (range(n_channels) if refs is None else refs)])
         if n_segments >= MIN_SEGMENTS:
             length = y.shape[0] // n_segments

@@ -2,6 +2,8 @@
 (``freq_std_hz``, ``damping_std``): its coverage of the truth on simulated
 records, and zero where the segments agree exactly."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -143,3 +145,22 @@ def test_each_mode_takes_its_own_eigenvalue_when_modes_are_close():
     np.testing.assert_allclose(modes["freq_hz"], f, rtol=1e-6)
     expected = 0.01 * f / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
     np.testing.assert_allclose(modes["freq_std_hz"], expected, rtol=0.02)
+
+
+@pytest.mark.parametrize("minutes, segments, length", [(20, 10, 3000), (2, 4, 750), (1.2, 4, 450), (0.6, 0, None)])
+def test_segments_span_six_times_the_lags_when_the_record_allows_four(minutes, segments, length):
+    """The uncertainty's segments (fmax 10 Hz: 50 Hz decimated to 25 Hz, 60
+    rows, 121 lags): a 20-minute record gives ten of 3000 samples, a
+    2-minute one four of 750 (not ten of 300: 2.5 times the lags scatter in
+    another regime than the record), 1.2 minutes four of 450 (fewer than
+    six times the lags, but four), 0.6 minutes none (four would be shorter
+    than twice the lags)."""
+    acc = np.random.default_rng(0).standard_normal((int(minutes * 60 * 50), 4))
+    details = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)  # white noise: maybe no mode
+        modal.identify_record(acc, 0.02, "ambient", fmax=10, rows=60, max_order=8, details=details)
+    settings = details["settings"]
+    assert settings["n_lags"] == 121
+    assert settings["uncertainty_segments"] == segments
+    assert settings["segment_samples"] == length
