@@ -3,11 +3,15 @@
     .venv/bin/python benchmarks/mutation_campaign.py            # all mutants, 2 at a time
     .venv/bin/python benchmarks/mutation_campaign.py --list     # the mutants only, no test run
     .venv/bin/python benchmarks/mutation_campaign.py --only _jobs.py --workers 1
+    .venv/bin/python benchmarks/mutation_campaign.py --only _config.py --within _geometry,campaign_inputs
 
 Modules: ``modal/campaign/_config.py``, ``_jobs.py``, the
-helper ``_overlapping_input`` of ``_workflow.py``, ``modal/_hashes.py`` (the
-campaign's content hashes) and ``modal/_locks.py``
-(tracking, report, run and simulation are not mutated here). Each mutant is
+``overlapping_input`` of ``modal/measured/_output.py`` (the
+campaign's ``--out`` check), ``modal/_hashes.py`` (the
+campaign's content hashes), ``modal/_locks.py``, ``_tracking.py``,
+``_run.py`` and the pure parts of ``_report.py`` (its numbers and the data
+its pictures are made from, not the drawing calls); the simulation is not
+mutated here. Each mutant is
 one systematic edit of the source, made with :mod:`ast` on a copy of the
 tree (never in the checkout): a comparison flipped (``==``/``!=``,
 ``<``/``<=``, ``in``/``not in``, ``is``/``is not``), ``and``/``or``
@@ -50,14 +54,24 @@ TARGETS = [  # (path, function or None for the whole module)
     ("modal/campaign/_config.py", None),
     ("modal/campaign/_jobs.py", None),
     ("modal/_hashes.py", None),
-    ("modal/campaign/_workflow.py", "_overlapping_input"),
+    ("modal/measured/_output.py", "overlapping_input"),  # the campaign's --out check (moved there, issue 33)
     ("modal/_locks.py", None),
+    ("modal/campaign/_tracking.py", None),
+    # the report's numbers and the data its pictures are made from, not the drawing calls
+    ("modal/campaign/_report.py", "_colour"),
+    ("modal/campaign/_report.py", "_interval"),
+    ("modal/campaign/_report.py", "mode_summary"),
+    ("modal/campaign/_report.py", "drawn_shapes"),
+    ("modal/campaign/_report.py", "_phi"),
+    ("modal/campaign/_report.py", "shapes_figure"),
+    ("modal/campaign/_run.py", None),
 ]
 
 UNITS = "tests/workflow/test_campaign_units.py::"
 CAMPAIGN = "tests/workflow/test_campaign.py::"
 UNATTENDED = "tests/workflow/test_campaign_unattended.py::"
 OPTIONS = "tests/engine/measured/test_options.py::"
+TRACKING = "tests/workflow/test_campaign_tracking.py::"
 TESTS = {  # by target: the fast tests that reach it, the quickest first
     "_config.py": [UNITS + t for t in (
         "test_a_campaign_read_with_its_defaults_and_layout",
@@ -65,7 +79,10 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
         "test_a_campaign_that_cannot_be_read_says_why", "test_the_index_refusals_name_the_row",
         "test_a_campaign_named_by_a_relative_path_is_named_in_full",
         "test_records_at_one_time_are_in_name_order_and_the_layout_skips_what_does_not_read",
-        "test_glob_refusals_and_names", "test_chunks_are_consecutive_and_named_by_number")] + [
+        "test_glob_refusals_and_names", "test_chunks_are_consecutive_and_named_by_number",
+        "test_a_geometry_is_read_with_its_channel_table",
+        "test_a_geometry_that_names_the_sensors_needs_no_channel_table",
+        "test_geometry_refusals_name_the_key_and_the_file")] + [
         CAMPAIGN + "test_campaign_file_refusals", CAMPAIGN + "test_glob_with_times_in_the_names",
         UNATTENDED + "test_the_index_is_data", UNATTENDED + "test_the_campaign_file_is_data",
         OPTIONS + "test_the_campaign_schema_is_the_options_schema",
@@ -78,12 +95,39 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
     "_hashes.py": [UNITS + "test_a_file_hash_is_the_sha256_of_all_its_bytes",
                    UNITS + "test_the_cache_is_trusted_while_the_status_is_unchanged",
                    UNATTENDED + "test_content_hashes_see_a_rewrite_that_keeps_size_and_time"],
-    "_workflow.py": [UNITS + "test_an_output_folder_overlapping_an_input_says_how",
+    "_output.py": [UNITS + "test_an_output_folder_overlapping_an_input_says_how",
                      UNATTENDED + "test_an_output_folder_over_the_inputs_is_refused"],
     "_locks.py": [UNITS + t for t in (
         "test_stale_locks_are_listed_and_cleared", "test_live_snakemake_processes_are_those_working_here",
         "test_a_command_line_that_is_not_utf8_is_read", "test_the_caller_and_its_parent_are_not_a_run")] + [
         "tests/workflow/test_strict.py::test_stale_lock_is_cleared_and_live_run_is_reported"],
+    "_tracking.py": [UNITS + "test_the_track_step_writes_every_table"] + [TRACKING + t for t in (
+        "test_the_assignment_takes_the_larger_mac", "test_crossing_modes_give_two_references_with_their_own_shapes",
+        "test_a_mode_replaced_by_another_shape_at_its_frequency_is_another_reference",
+        "test_close_modes_of_similar_shape_seen_together_stay_two",
+        "test_the_observed_range_follows_the_reference_shape_only",
+        "test_given_references_follow_a_drift_beyond_freq_rtol",
+        "test_a_shape_that_matches_no_reference_stays_untracked",
+        "test_reference_modes_are_read_renumbered_by_frequency",
+        "test_neighbours_are_pairs_within_both_gates_with_their_distance",
+        "test_the_medoid_is_the_shape_closest_to_the_others_even_the_last",
+        "test_a_mode_in_min_share_of_the_records_is_a_reference_and_empty_results_have_the_columns",
+        "test_split_clusters_join_within_the_frequency_margin_bounds_included",
+        "test_split_clusters_join_by_shape_and_shared_records_largest_first",
+        "test_observed_ranges_bounds_defaults_and_each_reference",
+        "test_tracking_gates_include_their_bounds_and_mac_decides_before_frequency",
+        "test_tracking_refuses_other_channels_and_returns_its_own_tables",
+        "test_large_campaigns_are_clustered_on_a_sample_of_records",
+        "test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread")
+    ] + [CAMPAIGN + "test_tracking_is_one_to_one_and_gated",
+         UNITS + "test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes"],
+    "_report.py": [UNITS + "test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes",
+                   TRACKING + "test_report_bars_are_clipped_at_zero_and_damping_is_in_percent",
+                   UNITS + "test_the_report_step_reads_the_tables_and_draws_the_shapes_given_a_geometry"],
+    "_run.py": [UNITS + t for t in (
+        "test_the_track_step_writes_every_table",
+        "test_the_track_step_takes_given_references_with_their_observed_range",
+        "test_the_report_step_reads_the_tables_and_draws_the_shapes_given_a_geometry")],
 }
 
 
@@ -379,6 +423,8 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--timeout", type=float, default=60.0, help="seconds per mutant (default 60)")
     parser.add_argument("--only", help="mutate only the target whose path ends with this")
+    parser.add_argument("--within", help="mutate only within these functions (comma-separated names; "
+                        "<module> for module-level code)")
     parser.add_argument("--list", action="store_true", help="list the mutants, run nothing")
     parser.add_argument("--json", type=Path, help="write each mutant's verdict here")
     parser.add_argument("--again", type=Path, metavar="JSON",
@@ -386,6 +432,9 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     all_mutants = [m for path, function in TARGETS if not args.only or path.endswith(args.only)
                    for m in mutants(path, function)]
+    if args.within:
+        names = set(args.within.split(","))
+        all_mutants = [m for m in all_mutants if m["key"].split("::")[1] in names]
     if args.again:
         before = json.loads(args.again.read_text())
         all_mutants = [m for m in all_mutants if before.get(m["key"], "survived") == "survived"]

@@ -107,7 +107,8 @@ def _clusters(f, unit, record, gap_rtol, mac_min) -> np.ndarray:
 
 def _medoid(shapes: np.ndarray, members: np.ndarray) -> int:
     """The member of largest summed MAC with the others (on at most
-    :data:`MEDOID_SAMPLE` of them, evenly spread)."""
+    :data:`MEDOID_SAMPLE` of them, evenly spread; of equal sums, the first
+    member)."""
     sample = members[np.linspace(0, len(members) - 1, min(len(members), MEDOID_SAMPLE)).astype(int)]
     return int(sample[int(np.argmax(mac(shapes[:, sample], shapes[:, sample]).sum(axis=0)))])
 
@@ -198,7 +199,7 @@ def reference_modes(modes: pd.DataFrame, n_records: int, freq_rtol=0.05, min_sha
     for cluster in np.unique(label):
         members = np.flatnonzero(label == cluster)
         seen = ordered["record"].iloc[members].nunique()
-        if seen < min_share * n_records:
+        if seen / max(n_records, 1) < min_share:  # not seen < min_share * n_records: 0.3 * 10 is 3.0000000000000004
             continue
         medoid = _medoid(shapes, members)
         row = {"freq_hz": float(np.median(f[members])), "n_records": int(seen),

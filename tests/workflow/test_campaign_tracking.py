@@ -11,7 +11,7 @@ import pytest
 from modal.campaign import identify_chunk, read_campaign, reference_modes, track_modes
 from modal.campaign._report import _interval, campaign_report
 from modal.campaign._simulated import simulate_campaign
-from modal.campaign._tracking import observed_ranges
+from modal.campaign._tracking import TRACKED_COLUMNS, observed_ranges
 from modal.identification import mac
 
 
@@ -298,17 +298,24 @@ def test_large_campaigns_are_clustered_on_a_sample_of_records():
     """Over 1000 records, the references are built from 1000 of them, evenly
     spread in time, and the records counted for min_share scale alike: a
     mode in each of 1001 records of a 2002-record campaign is in 1000 of the
-    sample, half of its 2000 records' share (kept at min_share 0.5)."""
+    sample, half of its 2000 records' share (kept at min_share 0.5). Records
+    are counted, not estimates: 600 records of two modes are all clustered."""
     from modal.campaign._tracking import REFERENCE_SAMPLE
 
     assert REFERENCE_SAMPLE == 1000
-    n = 1001  # one mode drifting slowly from 1 to 100 Hz: one chain of neighbours
-    modes = _modes([(f"r{r:04d}", float(100 ** (r / (n - 1))), X) for r in range(n)])
+    n = 1001  # two modes drifting slowly from 1 to 100 Hz, x and y: two chains of neighbours
+    rows = [(f"r{r:04d}", float(100 ** (r / (n - 1))) * (1 + 0.001 * k), shape) for r in range(n)
+            for k, shape in enumerate((X, Y))]
+    modes = _modes(rows)
     references = reference_modes(modes, n_records=2 * n, min_share=0.5)
-    assert references["n_records"].tolist() == [1000]
-    assert references[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.0, 100.0]]
+    assert references["n_records"].tolist() == [1000, 1000]
+    assert references[["freq_low_hz", "freq_high_hz"]].to_numpy() == pytest.approx(np.array([[1.0, 100.0],
+                                                                                             [1.001, 100.1]]))
+    # the records kept: round(linspace(0, 1000, 1000)), all but r0500 (the floor would leave out r0999)
+    assert references["freq_hz"].tolist() == pytest.approx([10.000106038, 10.010106144])
     assert reference_modes(modes, n_records=2 * n + 4, min_share=0.5).empty  # 2006 x 1000 / 1001 > 2000
-    assert reference_modes(modes.iloc[:1000], n_records=2000, min_share=0.5)["n_records"].tolist() == [1000]
+    few = modes.iloc[:1200]  # 600 records: all clustered
+    assert reference_modes(few, n_records=600)["n_records"].tolist() == [600, 600]
 
 
 def test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread():
@@ -324,3 +331,156 @@ def test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread():
     references = reference_modes(_modes(rows), n_records=401)
     assert abs(references["phi_1"].iloc[0]) == pytest.approx(np.sin(np.radians(5)))
     assert reference_modes(_modes(rows[:400]), n_records=400)[["phi_0", "phi_1"]].to_numpy().tolist() == [[1.0, 0.0]]
+
+
+def test_neighbours_are_pairs_within_both_gates_with_their_distance():
+    """Two estimates are neighbours when f_j / f_i - 1 <= gap_rtol and MAC >=
+    mac_min, both bounds included; distance: the frequency term over
+    gap_rtol plus 1 - MAC over 1 - mac_min."""
+    from modal.campaign._tracking import _neighbours
+
+    f = np.array([2.0, 2.5, 3.0])
+    unit = np.array([[1.0, 0.6, 0.0], [0.0, 0.8, 1.0]])  # MAC 0.36 between the first two, 0.64 the last two
+    first, second, distance = _neighbours(f, unit, 0.25, 0.36)
+    assert first.tolist() == [0, 1] and second.tolist() == [1, 2]
+    assert distance == pytest.approx([0.25 / 0.25 + 0.64 / 0.64, 0.2 / 0.25 + 0.36 / 0.64])
+    first, second, distance = _neighbours(f, unit, 0.5, 0.36)  # 3.0 / 2.0 - 1 = 0.5, but MAC 0
+    assert first.tolist() == [0, 1] and second.tolist() == [1, 2]
+    assert _neighbours(f, unit, 0.2, 0.5)[0].tolist() == [1]
+    assert [a.tolist() for a in _neighbours(f[:1], unit[:, :1], 0.25, 0.36)] == [[], [], []]
+
+
+def test_the_medoid_is_the_shape_closest_to_the_others_even_the_last():
+    """Three estimates of one mode at +5, -5 and 0 degrees: the central one
+    (largest summed MAC), though it is the last in frequency; of two, the
+    first."""
+    rows = [("r1", 2.0, _unit(5)), ("r2", 2.01, _unit(-5)), ("r3", 2.02, _unit(0))]
+    references = reference_modes(_modes(rows), n_records=3)
+    assert references[["phi_0", "phi_1"]].to_numpy().tolist() == [[1.0, 0.0]]
+    references = reference_modes(_modes(rows[:2]), n_records=2)
+    assert references["phi_1"].tolist() == pytest.approx([np.sin(np.radians(5))])
+
+
+def test_a_mode_in_min_share_of_the_records_is_a_reference_and_empty_results_have_the_columns():
+    """A cluster in 3 of 10 records is in 30 %, the default min_share: a
+    reference (0.3 x 10 is 3.0000000000000004 in floating point); in 2 of
+    10, not. No reference: the columns all the same."""
+    rows = [(f"r{r}", 2.0 + 0.001 * r, X) for r in range(3)]
+    assert reference_modes(_modes(rows), n_records=10)["n_records"].tolist() == [3]
+    assert reference_modes(_modes(rows[:2]), n_records=10).empty
+    columns = ["mode", "freq_hz", "n_records", "freq_low_hz", "freq_high_hz"]
+    assert list(reference_modes(_modes(rows[:2]), n_records=10).columns) == columns
+    assert list(reference_modes(_modes(rows).iloc[:0], n_records=10).columns) == columns
+
+
+def _join(label, f, shapes, record, freq_rtol=0.05, mac_min=0.8):
+    from modal.campaign._tracking import _join_split_modes
+
+    joined = _join_split_modes(np.array(label), np.array(f), np.array(shapes).T, np.array(record), freq_rtol,
+                               mac_min)
+    return [sorted(np.flatnonzero(joined == k).tolist()) for k in dict.fromkeys(joined)]
+
+
+def test_split_clusters_join_within_the_frequency_margin_bounds_included():
+    """Clusters of one shape join when their frequency ranges lie within
+    freq_rtol of each other, the bound included, whichever is larger."""
+    shapes = [X] * 5
+    # the smaller (2.5 Hz) lies exactly 25 % above the larger (2.0 Hz): joined at 0.25, not at 0.24
+    assert _join([0, 0, 0, 1, 1], [2.0] * 3 + [2.5] * 2, shapes, list("abcde"), freq_rtol=0.25) == [[0, 1, 2, 3, 4]]
+    assert _join([0, 0, 0, 1, 1], [2.0] * 3 + [2.5] * 2, shapes, list("abcde"), freq_rtol=0.24) == [[0, 1, 2],
+                                                                                                     [3, 4]]
+    # the smaller (2.0 Hz) lies exactly 20 % below the larger (2.5 Hz)
+    assert _join([0, 0, 1, 1, 1], [2.0] * 2 + [2.5] * 3, shapes, list("abcde"), freq_rtol=0.2) == [[0, 1, 2, 3, 4]]
+    assert _join([0, 0, 1, 1, 1], [2.0] * 2 + [2.5] * 3, shapes, list("abcde"), freq_rtol=0.19) == [[0, 1], [2, 3, 4]]
+
+
+def test_split_clusters_join_by_shape_and_shared_records_largest_first():
+    """A cluster joins the kept one whose medoid matches its own best, MAC >=
+    mac_min (bound included), sharing at most SPLIT_SHARE (20 %) of its
+    records (bound included), the larger clusters taken first; a kept one
+    that shares too many is passed over for the next; a joined cluster's
+    records count for those that follow."""
+    x3, x4 = (0.6, 0.8, 0.0), (1.0, 0.0, 0.0)  # MAC 0.36
+    assert _join([0, 0, 1], [2.0, 2.0, 2.01], [x4, x4, x3], list("abc"), mac_min=0.36) == [[0, 1, 2]]
+    assert _join([0, 0, 1], [2.0, 2.0, 2.01], [x4, x4, x3], list("abc"), mac_min=0.37) == [[0, 1], [2]]
+    # a 5-record cluster sharing 1 record (20 %) with the larger joins; sharing 2 (40 %) it does not
+    big = [f"r{k}" for k in range(10)]
+    assert _join([0] * 10 + [1] * 5, [2.0] * 15, [X] * 15, big + ["r0", "s1", "s2", "s3", "s4"]) == [list(range(15))]
+    assert _join([0] * 10 + [1] * 5, [2.0] * 15, [X] * 15, big + ["r0", "r1", "s2", "s3", "s4"]) == \
+        [list(range(10)), list(range(10, 15))]
+    # largest first: 3 records sharing one with 10 (a third of its own) stay apart, though that is a tenth of 10
+    assert _join([1] * 3 + [0] * 10, [2.0] * 13, [X] * 13, ["r0", "s1", "s2"] + big) == [[0, 1, 2],
+                                                                                        list(range(3, 13))]
+    # the first kept shares too many records (the 6 share 2 with the 10 and stay apart); the next one takes it
+    labels, f, shapes = [0] * 10 + [1] * 6 + [2] * 3, [2.0] * 19, [X] * 19
+    record = big + ["r0", "r1", "t2", "t3", "t4", "t5"] + ["r2", "r3", "s"]
+    assert _join(labels, f, shapes, record) == [list(range(10)), list(range(10, 19))]
+    record = big + [f"t{k}" for k in range(6)] + ["r0", "r1", "s"]  # the 6 join the 10; the 3 share 2 with them
+    assert _join(labels, f, shapes, record) == [list(range(16)), [16, 17, 18]]
+    record = big + ["u0", "u1", "u2", "u3", "u4", "u5"] + ["u0", "u1", "s"]  # shared with the 6 that joined
+    assert _join(labels, f, shapes, record) == [list(range(16)), [16, 17, 18]]
+
+
+def test_observed_ranges_bounds_defaults_and_each_reference():
+    """The band: estimates whose MAC with the reference is >= mac_min (bound
+    included), cut where neighbours lie more than freq_rtol apart (a step of
+    exactly freq_rtol is not a cut); a reference without a matching estimate
+    keeps its own frequency and the next is still looked at; the defaults
+    are freq_rtol 0.05 and mac_min 0.8; the references given are left as
+    they are; integer frequencies give float bounds."""
+    x3 = (0.6, 0.8, 0.0)  # MAC 0.36 with x
+    references = pd.DataFrame({"mode": [1, 2], "freq_hz": [7, 2], "phi_0": [0.0, 1.0], "phi_1": [0.0, 0.0],
+                               "phi_2": [1.0, 0.0]})
+    modes = _modes([("r1", 2.0, X), ("r2", 2.5, x3), ("r3", 1.98, X)])
+    out = observed_ranges(modes, references, freq_rtol=0.25, mac_min=0.36)
+    assert out[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[7.0, 7.0], [1.98, 2.5]]
+    assert out["freq_low_hz"].dtype == float and list(references.columns) == ["mode", "freq_hz", "phi_0", "phi_1",
+                                                                              "phi_2"]
+    assert observed_ranges(modes, references, freq_rtol=0.25, mac_min=0.37)["freq_high_hz"].tolist() == [7.0, 2.0]
+    assert observed_ranges(modes, references, freq_rtol=0.24, mac_min=0.36)["freq_high_hz"].tolist() == [7.0, 2.0]
+    # defaults: 2.05 lies 2.5 % above 2.0 (a step within 5 %), 2.2 Hz 7.3 % above it; MAC 0.81 matches, 0.79 not
+    modes = _modes([("r1", 2.0, X), ("r2", 2.05, _unit(np.degrees(np.arccos(0.9)))),
+                    ("r3", 2.2, X), ("r4", 1.9, _unit(np.degrees(np.arccos(np.sqrt(0.79)))))])
+    assert observed_ranges(modes, references)[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == \
+        [[7.0, 7.0], [2.0, 2.05]]
+    no_modes = pd.DataFrame(columns=["record", "time", "mode", "freq_hz"])  # as gathered from no chunk
+    assert observed_ranges(no_modes, references)["freq_high_hz"].tolist() == [7.0, 2.0]
+
+
+def test_tracking_gates_include_their_bounds_and_mac_decides_before_frequency():
+    """An estimate exactly at the gate's lower or upper frequency, or at MAC
+    = mac_min, is tracked; of two estimates of equal MAC the one nearer the
+    reference frequency is taken, whichever comes first, and the frequency
+    never outweighs MAC (0.99 at 25 % off beats 0.85 at the reference
+    frequency); beyond 100 % off, frequency no longer tells them apart."""
+    x3 = (0.6, 0.8, 0.0)  # MAC 0.36 with x
+    references = pd.DataFrame({"mode": [4], "freq_hz": [2.0], "freq_low_hz": [2.0], "freq_high_hz": [2.0],
+                               "phi_0": [1.0], "phi_1": [0.0], "phi_2": [0.0]})
+    modes = _modes([("r1", 1.5, X), ("r2", 2.5, X), ("r3", 2.0, x3), ("r4", 1.49, X), ("r5", 2.51, X)])
+    tracked, untracked = track_modes(modes, references, freq_rtol=0.25, mac_min=0.36)
+    assert tracked["record"].tolist() == ["r1", "r2", "r3"] and (tracked["mode"] == 4).all()
+    assert tracked["mac"].tolist() == pytest.approx([1.0, 1.0, 0.36])
+    assert untracked["record"].tolist() == ["r4", "r5"]
+    assert list(untracked.columns) == list(modes.columns) and untracked.index.tolist() == [0, 1]
+    # equal MAC: the nearer frequency, listed second
+    modes = _modes([("r1", 2.3, X), ("r1", 2.1, X)])
+    assert track_modes(modes, references, freq_rtol=0.25)[0]["freq_hz"].tolist() == [2.1]
+    modes = _modes([("r1", 1.8, X), ("r1", 1.9, X)])
+    assert track_modes(modes, references, freq_rtol=0.25)[0]["freq_hz"].tolist() == [1.9]
+    modes = _modes([("r1", 2.0, _unit(22.8)), ("r1", 2.5, _unit(5.7))])  # MAC 0.85 and 0.99
+    assert track_modes(modes, references, freq_rtol=0.25)[0]["freq_hz"].tolist() == [2.5]
+    wide = references.assign(freq_high_hz=4.0)  # 5.2 and 7.0 Hz: 160 % and 250 % off: alike, the first taken
+    assert track_modes(_modes([("r1", 7.0, X), ("r1", 5.2, X)]), wide, freq_rtol=0.8)[0]["freq_hz"].tolist() == [7.0]
+
+
+def test_tracking_refuses_other_channels_and_returns_its_own_tables():
+    """Shapes over other channels than the references' are refused; the
+    untracked table is a table of its own, never the caller's."""
+    references = pd.DataFrame({"mode": [1], "freq_hz": [2.0], "phi_0": [1.0], "phi_1": [0.0]})
+    modes = _modes([("r1", 2.0, X)])
+    with pytest.raises(ValueError, match="the records' shapes have 3 channels, the reference modes 2"):
+        track_modes(modes, references)
+    tracked, untracked = track_modes(modes, references.iloc[:0])  # no reference: every mode untracked
+    assert tracked.empty and list(tracked.columns) == TRACKED_COLUMNS
+    untracked["freq_hz"] = 0.0
+    assert modes["freq_hz"].tolist() == [2.0]

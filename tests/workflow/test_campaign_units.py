@@ -221,11 +221,11 @@ def _geometry(folder, channels="channel,node,x,y,z,quantity,role\n0,1,1,0,0,acce
 def test_a_geometry_is_read_with_its_channel_table(folder):
     """The geometry's folder and channel table are resolved, the table kept
     as plain rows, each shape entry's record channel said; both are inputs
-    (an --out over them is refused)."""
+    (an --out over them is refused); paths are resolved."""
     _geometry(folder, "channel,node,x,y,z,quantity,unit,role\n2,1,1,0,0,acceleration,cm/s2,roving\n"
                       "0,2,0,1,0,acceleration,,roving\n")
     text = "records: {index: i.csv}\nidentify: {excitation: ambient, channels: [2, 0]}\n" \
-           "geometry: {folder: geo, channels: geo/channels.csv}\n"
+           "geometry: {folder: ./geo/../geo, channels: geo/../geo/channels.csv}\n"
     config, index = read_campaign(write(folder, text))
     geometry = config["geometry"]
     assert geometry["folder"] == str(folder / "geo") and geometry["channels"] == str(folder / "geo" / "channels.csv")
@@ -239,6 +239,12 @@ def test_a_geometry_is_read_with_its_channel_table(folder):
                                     "channels: geo/channels.csv}\n"))
     assert config["geometry"]["shape_channels"] == [0, 1, 2]
     assert read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))[0]["geometry"] is None
+    # no record reads: the table is read all the same, the channels identified are not known
+    for name in ("a", "b"):
+        (folder / f"{name}.npz").write_text("not a record")
+    config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo, "
+                                    "channels: geo/channels.csv}\n"))
+    assert len(config["geometry"]["table"]) == 2 and config["geometry"]["shape_channels"] is None
 
 
 def test_a_geometry_that_names_the_sensors_needs_no_channel_table(folder):
@@ -247,12 +253,14 @@ def test_a_geometry_that_names_the_sensors_needs_no_channel_table(folder):
     (folder / "geo").mkdir()
     (folder / "geo" / "sens_coord.txt").write_text("sName x y z\nch3 0 0 3\nch1 0 0 6\n")
     (folder / "geo" / "sens_dir.txt").write_text("1 0 0\n0 1 0\n")
+    (folder / "a.npz").write_text("not a record")  # the names of the first record that reads: b.npz
     config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo}\n"))
+    assert config["layout"]["record"] == "b.npz"
     table = config["geometry"]["table"]
     assert [(r["channel"], r["name"], r["x"], r["y"]) for r in table] == [(0, "ch1", 0.0, 1.0), (2, "ch3", 1.0, 0.0)]
     assert config["geometry"]["channels"] is None
     # no record reads: no names to match, no table (the records fail in their jobs)
-    for name in ("a", "b"):
+    for name in ("b",):
         (folder / f"{name}.npz").write_text("not a record")
     config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo}\n"))
     assert config["geometry"]["table"] is None and config["geometry"]["shape_channels"] is None
@@ -311,6 +319,16 @@ def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
     assert mean["freq_hz"].tolist() == pytest.approx([1.05, 3.0])
     assert mean["mac_reference"].tolist() == pytest.approx([0.99513, 1.0], abs=1e-5)
     assert mean_shapes(tracked[tracked["mode"] == 2], references)["mode"].tolist() == [2]  # mode 1: none tracked
+    assert list(mean_shapes(tracked.iloc[:0], references).columns) == ["mode", "freq_hz", "n_estimates",
+                                                                       "mac_reference", "phi_0", "phi_1", "phi_2"]
+    # an estimate orthogonal to the reference (tracked at mac_min 0) counts as it is; one of zero norm adds nothing
+    along_x = pd.DataFrame({"mode": [1], "freq_hz": [1.0], "phi_0": [1.0], "phi_1": [0.0], "phi_2": [0.0]})
+    odd = pd.DataFrame({"mode": 1, "freq_hz": 1.0, "phi_0": [0.6, 0.0, 0.0], "phi_1": [0.8, 0.0, 0.0],
+                        "phi_2": [0.0, 1.0, 0.0]})
+    assert mean_shapes(odd.iloc[[0, 2]], along_x)[["phi_0", "phi_1", "phi_2"]].to_numpy()[0] == \
+        pytest.approx([0.6, 0.8, 0.0])
+    assert mean_shapes(odd.iloc[[0, 1]], along_x)[["phi_0", "phi_1", "phi_2"]].to_numpy()[0] == \
+        pytest.approx(np.array([0.6, 0.8, 1.0]) / np.sqrt(2))
 
     geometry = Geometry(pd.DataFrame({"x": 0.0, "y": 0.0, "z": [0.0, 3.0, 6.0]}, index=pd.Index(["0", "1", "2"],
                                      name="node")), lines=[("0", "1"), ("1", "2")])
@@ -380,8 +398,11 @@ def test_the_track_step_writes_every_table(tmp_path):
     track_campaign(modes_files, failed_files, 5, TRACKING, tmp_path)
     modes = pd.read_csv(tmp_path / "modes.csv")
     assert len(modes) == 8 and modes["freq_hz"].tolist()[:3] == [2.0, 5.0, 2.02]
+    assert list(modes.columns) == MODE_COLUMNS + ["phi_0", "phi_1"]
     assert pd.read_csv(tmp_path / "failed.csv").to_dict("list") == {"record": ["r4"], "reason": ["broken"]}
     references = pd.read_csv(tmp_path / "references.csv")
+    assert list(references.columns) == ["mode", "freq_hz", "n_records", "freq_low_hz", "freq_high_hz", "phi_0",
+                                        "phi_1"]
     assert references["mode"].tolist() == [1, 2] and references["n_records"].tolist() == [4, 3]
     assert references["freq_hz"].tolist() == pytest.approx([2.005, 5.0])
     assert references[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.98, 2.02], [4.95, 5.05]]
@@ -392,7 +413,9 @@ def test_the_track_step_writes_every_table(tmp_path):
         ("r3", 1, 2.01)]
     untracked = pd.read_csv(tmp_path / "untracked.csv")
     assert untracked[["record", "freq_hz"]].values.tolist() == [["r3", 5.02]]
+    assert list(untracked.columns) == list(modes.columns)
     shapes = pd.read_csv(tmp_path / "tracked_shapes.csv")
+    assert list(shapes.columns) == ["mode", "freq_hz", "n_estimates", "mac_reference", "phi_0", "phi_1"]
     assert shapes["mode"].tolist() == [1, 2] and shapes["n_estimates"].tolist() == [4, 3]
     assert shapes[["phi_0", "phi_1"]].to_numpy() == pytest.approx(np.array([[1, 0.1], [-0.1, 1]]) / np.sqrt(1.01))
     # the index itself counts its records: 20 of them, a mode in 4 is under min_share
