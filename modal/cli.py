@@ -194,7 +194,7 @@ def parser() -> argparse.ArgumentParser:
     run.add_argument("campaign", type=Path, help="the campaign's YAML file (docs: Monitoring campaigns)")
     run.add_argument("--out", type=Path, required=True, help="output folder (kept between runs: a rerun resumes)")
     run.add_argument("--cores", type=_positive(int), default=1, help="cores on this machine (default 1)")
-    run.add_argument("--profile", type=Path, help="a Snakemake profile folder, e.g. one for Slurm")
+    run.add_argument("--profile", help="a Snakemake profile folder, or 'slurm' for the shipped Slurm profile")
     run.add_argument("--dry-run", action="store_true", help="plan only: list the jobs that would run")
     return main
 

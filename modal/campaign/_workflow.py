@@ -21,6 +21,42 @@ from ._config import campaign_inputs, read_campaign
 
 #: The workflow :func:`run` (and ``modal campaign``) runs.
 SNAKEFILE = Path(__file__).with_name("Snakefile")
+#: The shipped Snakemake profiles, by name (a folder of this one each).
+PROFILES = Path(__file__).with_name("profiles")
+
+
+def profile_folder(profile) -> Path:
+    """The Snakemake profile folder ``profile`` names.
+
+    A folder that exists is used as it is, and Snakemake reads its settings
+    (so a folder ``slurm`` in the working directory wins over the shipped
+    profile of that name); otherwise a name of :data:`PROFILES` gives the
+    shipped folder.
+
+    Parameters
+    ----------
+    profile : path-like
+        A folder holding ``config.yaml``, or a shipped profile's name.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder, absolute.
+
+    Raises
+    ------
+    ValueError
+        ``profile`` is neither a folder nor a shipped name (the message lists
+        the names).
+    """
+    folder = Path(profile)
+    if folder.is_dir():
+        return folder.resolve()
+    shipped = sorted(p.name for p in PROFILES.iterdir() if (p / "config.yaml").is_file())
+    if str(profile) not in shipped:
+        raise ValueError(f"profile: {profile} is neither a folder nor a shipped profile ({', '.join(shipped)}); "
+                         "a Snakemake profile is a folder with config.yaml")
+    return (PROFILES / str(profile)).resolve()
 
 
 class WorkflowStopped(RuntimeError):
@@ -59,7 +95,8 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     cores : int
         Cores to use on this machine (with a cluster profile: jobs at once).
     profile : path-like, optional
-        A Snakemake profile folder (``config.yaml``), e.g. one for Slurm.
+        A Snakemake profile: a folder holding ``config.yaml``, or the name
+        of a shipped one (``"slurm"``, :func:`profile_folder`).
     dry_run : bool
         Plan only: Snakemake prints the jobs that would run; no job runs.
     command : str, optional
@@ -79,8 +116,8 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     ------
     ValueError
         The campaign file is refused (the message names the key and the
-        fix), ``cores`` is not a positive integer, ``profile`` is not a
-        folder, or another run is active in ``out`` (its process named);
+        fix), ``cores`` is not a positive integer, ``profile`` is neither a
+        folder nor a shipped profile's name, or another run is active in ``out`` (its process named);
         :class:`modal.measured.OutputError` (a ``ValueError``) when ``out``
         is not a folder, cannot be created, or is, holds or lies inside one
         of the campaign's inputs (the campaign file, the index, the
@@ -100,8 +137,7 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     config, index = read_campaign(campaign)
     if importlib.util.find_spec("snakemake") is None:
         raise ImportError("snakemake is not installed")
-    if profile is not None and not Path(profile).is_dir():
-        raise ValueError(f"profile: {profile} is not a folder (a Snakemake profile is a folder with config.yaml)")
+    profile = None if profile is None else profile_folder(profile)
     out = Path(out)
     # not an input, not holding or inside one (the rule modal identify follows), and a folder (or where one
     # can be made) on a writable file system
@@ -127,7 +163,7 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(out),
             "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--configfile", str(settings.resolve())]
     if profile is not None:
-        call += ["--profile", str(Path(profile).resolve())]
+        call += ["--profile", str(profile)]
     if dry_run:
         call += ["--dry-run", "--quiet", "rules"]
     log(f"{len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to {config['chunk']}")
