@@ -367,7 +367,7 @@ def identify_record(
     spectrum = fdd(y if excitation == "ambient" else y[start:], dt)
     log(f"spectral witness: singular values of the spectral density matrix (Welch, {spectrum.nperseg}-sample "
         f"segments, {spectrum.df:.3g} Hz resolution)")
-    result = with_spectral_witness(result, spectrum)
+    result = with_spectral_witness(result, spectrum, quantities=options.quantities)
     unsupported = result.modes.loc[~result.modes["spectral_support"].astype(bool), "freq_hz"]
     if len(unsupported):
         log("no singular-value peak near " + ", ".join(f"{f:.4g}" for f in unsupported) + " Hz")
@@ -384,20 +384,32 @@ def identify_record(
 NO_SPECTRAL_PEAK = "no spectral peak"
 
 
-def with_spectral_witness(result: Stabilisation, spectrum) -> Stabilisation:
+def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> Stabilisation:
     """``result`` with its modes checked against the singular-value spectrum
     (:func:`modal.spectral_support`, on the complex shapes as identified):
     the columns ``sv_peak_hz``, ``sv_number``, ``sv_mac``, ``spectral_support``
     added to ``modes`` and, where ``modes`` has a ``flag`` column, the reason
-    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons."""
+    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons.
+
+    ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
+    took them): the shapes are in the first channel's quantity, the spectrum
+    in each channel's own, so each entry is multiplied back by
+    ``s^(k - k_0)`` (``s`` the mode's pole, ``k`` the channel's derivative,
+    ``k_0`` the first's) before its MAC with a singular vector; without it
+    every channel measures the same quantity."""
     import dataclasses
 
-    from ..identification import spectral_support
+    from ..identification import QUANTITIES, spectral_support
 
     modes = result.modes.copy()
     shapes = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
-    support = spectral_support(spectrum, modes["freq_hz"].to_numpy(dtype=float), shapes,
-                               damping=modes["damping"].to_numpy(dtype=float))
+    freq_hz, damping = modes["freq_hz"].to_numpy(dtype=float), modes["damping"].to_numpy(dtype=float)
+    if quantities is not None and len(modes):
+        relative = np.array([QUANTITIES[q] for q in quantities]) - QUANTITIES[quantities[0]]
+        zeta = np.clip(np.nan_to_num(damping), 0.0, 1.0)
+        pole = 2 * np.pi * freq_hz * (-zeta + 1j * np.sqrt(1 - zeta**2))
+        shapes = np.asarray(shapes, dtype=complex) * pole[None, :] ** relative[:, None]
+    support = spectral_support(spectrum, freq_hz, shapes, damping=damping)
     for column in support.columns:
         modes[column] = support[column].to_numpy()
     if "flag" in modes:
