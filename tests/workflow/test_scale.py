@@ -3,6 +3,7 @@ the number of jobs grows with the seeds, BLAS threads follow a job's
 threads, every job can run as a separate process (cluster-generic executor),
 and a named run never touches the committed tables."""
 
+import copy
 import os
 import re
 import shutil
@@ -11,6 +12,9 @@ import sys
 
 import pytest
 import yaml
+from snakemake.utils import update_config
+
+from modal.thesis.search import search_settings
 
 from modal.thesis.chunks import chunk_seeds, merge_chunks, seed_chunks
 from modal.thesis.study import run_study
@@ -115,6 +119,18 @@ def test_blas_threads_follow_the_job_threads():
 def test_workflow_jobs_log_their_blas_threads(small_workflow):
     log = (small_workflow / "results/logs/identify_noise_lower_0.log").read_text()
     assert log.startswith("threads: 1, BLAS/OpenMP threads in effect: 1")
+
+
+def test_small_config_runs_one_setting_per_search():
+    """config/config.yaml's searches merge with the small config's key by
+    key (Snakemake's update_config): a search the small config does not
+    name, or a varied key it leaves out, would run the full search (61
+    settings instead of 6) in every end-to-end run of the test suite."""
+    merged = copy.deepcopy(BASE)
+    update_config(merged, SMALL)
+    counts = {name: len(search_settings(search, merged["studies"], merged["beams"], merged["tables"]))
+              for name, search in merged["searches"].items()}
+    assert counts == dict.fromkeys(BASE["searches"], 1)
 
 
 # --- separate processes: snakemake-executor-plugin-cluster-generic ------------------
