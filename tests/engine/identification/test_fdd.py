@@ -218,3 +218,30 @@ def test_refusals_name_the_argument():
     spectrum = modal.fdd(y, 0.01)
     with pytest.raises(ValueError, match=r"^shapes must be \(n_channels, n_modes\) = \(2, 1\)"):
         modal.spectral_support(spectrum, [1.0], np.ones((3, 1)))
+
+
+def test_support_is_judged_within_the_modes_own_window():
+    """The prominence counts within four half-widths of the mode: a row
+    claiming 0.2 % damping at the top of a 10 %-damped mode's broad peak
+    (window +-8 bins, where that peak falls some 4 dB) is not supported,
+    while the same frequency with the mode's own damping is; over the whole
+    spectrum the peak would stand out for both."""
+    acc, poles, psi = two_dof(MASS, rayleigh(0.1), STIFFNESS, 2**14, 0.05)
+    spectrum = modal.fdd(acc, 0.05)
+    own = modal.spectral_support(spectrum, np.abs(poles) / (2 * np.pi), psi, damping=-poles.real / np.abs(poles))
+    assert own["spectral_support"].all()
+    narrow = modal.spectral_support(spectrum, own["sv_peak_hz"].to_numpy(), psi, damping=[0.002, 0.002])
+    assert not narrow["spectral_support"].any()
+
+
+def test_of_several_supporting_maxima_the_nearest_counts():
+    """Close modes (1.053 and 1.139 Hz, one dashpot): a row at 1.125 Hz
+    whose band (+-10 %) holds the first singular value's peak at 1.139 Hz
+    and the second's at 1.096 Hz (where the two cross) is supported by the
+    nearer, 1.139 Hz."""
+    acc, _, _ = two_dof(np.eye(2), [[0.5, 0.0], [0.0, 0.0]], [[45.0, -3.0], [-3.0, 50.0]], 2**16, 0.1, seed=1)
+    spectrum = modal.fdd(acc, 0.1)
+    index, sv_number, _ = spectrum.supporting_peak(1.125, 0.11)
+    assert sv_number == 1 and spectrum.freq_hz[index] == pytest.approx(1.139, abs=2 * spectrum.df)
+    index, sv_number, _ = spectrum.supporting_peak(1.10, 0.11)
+    assert sv_number == 2 and spectrum.freq_hz[index] == pytest.approx(1.097, abs=2 * spectrum.df)
