@@ -118,10 +118,12 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
         "test_tracking_gates_include_their_bounds_and_mac_decides_before_frequency",
         "test_tracking_refuses_other_channels_and_returns_its_own_tables",
         "test_large_campaigns_are_clustered_on_a_sample_of_records",
-        "test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread")
+        "test_the_reference_shape_is_the_medoid_of_at_most_400_evenly_spread",
+        "test_a_rarer_first_cluster_does_not_hide_the_next")
     ] + [CAMPAIGN + "test_tracking_is_one_to_one_and_gated",
          UNITS + "test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes"],
-    "_report.py": [UNITS + "test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes",
+    "_report.py": [TRACKING + "test_the_report_summary_per_reference_mode",
+                   UNITS + "test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes",
                    TRACKING + "test_report_bars_are_clipped_at_zero_and_damping_is_in_percent",
                    UNITS + "test_the_report_step_reads_the_tables_and_draws_the_shapes_given_a_geometry"],
     "_run.py": [UNITS + t for t in (

@@ -368,6 +368,7 @@ def test_a_mode_in_min_share_of_the_records_is_a_reference_and_empty_results_hav
     rows = [(f"r{r}", 2.0 + 0.001 * r, X) for r in range(3)]
     assert reference_modes(_modes(rows), n_records=10)["n_records"].tolist() == [3]
     assert reference_modes(_modes(rows[:2]), n_records=10).empty
+    assert reference_modes(_modes(rows[:1]), n_records=1, min_share=0.6)["n_records"].tolist() == [1]
     columns = ["mode", "freq_hz", "n_records", "freq_low_hz", "freq_high_hz"]
     assert list(reference_modes(_modes(rows[:2]), n_records=10).columns) == columns
     assert list(reference_modes(_modes(rows).iloc[:0], n_records=10).columns) == columns
@@ -415,6 +416,11 @@ def test_split_clusters_join_by_shape_and_shared_records_largest_first():
     labels, f, shapes = [0] * 10 + [1] * 6 + [2] * 3, [2.0] * 19, [X] * 19
     record = big + ["r0", "r1", "t2", "t3", "t4", "t5"] + ["r2", "r3", "s"]
     assert _join(labels, f, shapes, record) == [list(range(10)), list(range(10, 19))]
+    # the first kept lies elsewhere in frequency (5 Hz); the next one (2 Hz) takes the 2.01 Hz cluster
+    f = [5.0] * 10 + [2.0] * 6 + [2.01] * 3
+    assert _join(labels, f, shapes, big + [f"t{k}" for k in range(6)] + ["s0", "s1", "s2"]) == [list(range(10)),
+                                                                                               list(range(10, 19))]
+    f = [2.0] * 19
     record = big + [f"t{k}" for k in range(6)] + ["r0", "r1", "s"]  # the 6 join the 10; the 3 share 2 with them
     assert _join(labels, f, shapes, record) == [list(range(16)), [16, 17, 18]]
     record = big + ["u0", "u1", "u2", "u3", "u4", "u5"] + ["u0", "u1", "s"]  # shared with the 6 that joined
@@ -443,6 +449,12 @@ def test_observed_ranges_bounds_defaults_and_each_reference():
                     ("r3", 2.2, X), ("r4", 1.9, _unit(np.degrees(np.arccos(np.sqrt(0.79)))))])
     assert observed_ranges(modes, references)[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == \
         [[7.0, 7.0], [2.0, 2.05]]
+    # the nearest matching estimate exactly freq_rtol from the reference: a band; beyond it none, and the next
+    # reference is still looked at
+    two = pd.DataFrame({"mode": [1, 2], "freq_hz": [1.5, 2.0], "phi_0": [1.0, 1.0], "phi_1": [0.0, 0.0],
+                        "phi_2": [0.0, 0.0]})
+    out = observed_ranges(_modes([("r1", 2.5, X)]), two, freq_rtol=0.25)
+    assert out[["freq_low_hz", "freq_high_hz"]].to_numpy().tolist() == [[1.5, 1.5], [2.0, 2.5]]
     no_modes = pd.DataFrame(columns=["record", "time", "mode", "freq_hz"])  # as gathered from no chunk
     assert observed_ranges(no_modes, references)["freq_high_hz"].tolist() == [7.0, 2.0]
 
@@ -484,3 +496,44 @@ def test_tracking_refuses_other_channels_and_returns_its_own_tables():
     assert tracked.empty and list(tracked.columns) == TRACKED_COLUMNS
     untracked["freq_hz"] = 0.0
     assert modes["freq_hz"].tolist() == [2.0]
+
+
+def test_a_rarer_first_cluster_does_not_hide_the_next():
+    """Each cluster is judged on its own records: the first (10 estimates of
+    x at 2 Hz in 10 of 21 records) is under min_share 0.5, the next (y at 3
+    Hz, split in two by record s0 showing it twice, 3.00 and 3.01 Hz, then
+    joined: 12 estimates in 11 records) is a reference."""
+    rows = [(f"r{k}", 2.0 + 1e-4 * k, X) for k in range(10)]
+    rows += [(f"s{k}", 3.0 + 1e-5 * k, Y) for k in range(6)]
+    rows += [("s0", 3.01, Y)] + [(f"t{k}", 3.01 + 1e-5 * k, Y) for k in range(1, 6)]
+    references = reference_modes(_modes(rows), n_records=21, min_share=0.5)
+    assert references["n_records"].tolist() == [11] and references["freq_low_hz"].tolist() == [3.0]
+
+
+def test_the_report_summary_per_reference_mode():
+    """One row per reference: its frequency as reference_hz and its range
+    (no shape, no n_records), the records it was tracked in and their share
+    of the identified ones in %, the median std of a frequency, mean damping
+    and median damping std in %, the median MAC; a reference never tracked
+    has 0 and no statistics."""
+    from modal.campaign._report import mode_summary
+
+    references = pd.DataFrame({"mode": [1, 2], "freq_hz": [2.0, 5.0], "n_records": [3, 1],
+                               "freq_low_hz": [1.9, 5.0], "freq_high_hz": [2.1, 5.0], "phi_0": [1.0, 0.0],
+                               "phi_1": [0.0, 1.0]})
+    tracked = pd.DataFrame({"record": ["a", "b", "c", "c"], "mode": [1, 1, 1, 1], "freq_hz": 2.0,
+                            "freq_std_hz": [0.01, 0.02, 0.04, 0.03], "damping": [0.01, 0.02, 0.03, 0.02],
+                            "damping_std": [0.001, 0.002, 0.004, 0.003], "mac": [0.9, 0.95, 0.99, 0.97]})
+    summary = mode_summary(tracked, references, n_identified=8)
+    assert list(summary.columns) == ["mode", "reference_hz", "freq_low_hz", "freq_high_hz", "tracked_in",
+                                     "tracked_share_pct", "median_freq_std_hz", "damping_mean_pct",
+                                     "median_damping_std_pct", "median_mac"]
+    first = summary.iloc[0]
+    assert first["reference_hz"] == 2.0 and first["tracked_in"] == 3 and first["tracked_share_pct"] == 37.5
+    assert first["median_freq_std_hz"] == pytest.approx(0.025) and first["damping_mean_pct"] == pytest.approx(2.0)
+    assert first["median_damping_std_pct"] == pytest.approx(0.25) and first["median_mac"] == pytest.approx(0.96)
+    assert summary["tracked_in"].tolist() == [3, 0] and summary["tracked_in"].dtype == int
+    assert summary.iloc[1][["median_freq_std_hz", "damping_mean_pct", "median_mac"]].isna().all()
+    assert mode_summary(tracked, references, n_identified=0)["tracked_share_pct"].tolist() == [300.0, 0.0]
+    assert list(mode_summary(tracked.iloc[:0], references, 8).columns) == ["mode", "reference_hz", "freq_low_hz",
+                                                                           "freq_high_hz"]

@@ -321,6 +321,11 @@ def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
     assert mean_shapes(tracked[tracked["mode"] == 2], references)["mode"].tolist() == [2]  # mode 1: none tracked
     assert list(mean_shapes(tracked.iloc[:0], references).columns) == ["mode", "freq_hz", "n_estimates",
                                                                        "mac_reference", "phi_0", "phi_1", "phi_2"]
+    # twelve channels: phi_10 is the eleventh entry, not the third
+    shape = np.arange(1.0, 13.0)
+    twelve = pd.DataFrame([{"mode": 1, "freq_hz": 1.0, **{f"phi_{k}": v for k, v in enumerate(shape)}}])
+    assert mean_shapes(twelve, twelve)[[f"phi_{k}" for k in range(12)]].to_numpy()[0] == \
+        pytest.approx(shape / np.linalg.norm(shape))
     # an estimate orthogonal to the reference (tracked at mac_min 0) counts as it is; one of zero norm adds nothing
     along_x = pd.DataFrame({"mode": [1], "freq_hz": [1.0], "phi_0": [1.0], "phi_1": [0.0], "phi_2": [0.0]})
     odd = pd.DataFrame({"mode": 1, "freq_hz": 1.0, "phi_0": [0.6, 0.0, 0.0], "phi_1": [0.8, 0.0, 0.0],
@@ -372,7 +377,8 @@ def _chunk_files(folder):
     shape (0.7, 0.7), matching neither; r4 failed."""
     columns = ",".join(MODE_COLUMNS)
     rows = []
-    for r, (f1, f2) in enumerate([(2.00, 5.00), (2.02, 5.05), (1.98, 4.95), (2.01, 5.02)]):
+    # (1.98 and 5.02 Hz with digits beyond the 8 significant ones the tables keep)
+    for r, (f1, f2) in enumerate([(2.00, 5.00), (2.02, 5.05), (1.98000000001, 4.95), (2.01, 5.02000000001)]):
         second = "0.7,0.7" if r == 3 else "-0.1,1.0"
         rows.append(f"r{r},2025-01-0{r + 1},1,{f1},0.01,0.01,0.002,0.9,5,1.0,0.1")
         rows.append(f"r{r},2025-01-0{r + 1},2,{f2},0.02,0.02,0.003,0.9,5,{second}")
@@ -418,6 +424,10 @@ def test_the_track_step_writes_every_table(tmp_path):
     assert list(shapes.columns) == ["mode", "freq_hz", "n_estimates", "mac_reference", "phi_0", "phi_1"]
     assert shapes["mode"].tolist() == [1, 2] and shapes["n_estimates"].tolist() == [4, 3]
     assert shapes[["phi_0", "phi_1"]].to_numpy() == pytest.approx(np.array([[1, 0.1], [-0.1, 1]]) / np.sqrt(1.01))
+    for name in ("modes", "references", "tracked", "untracked", "tracked_shapes"):  # 8 significant digits
+        text = (tmp_path / f"{name}.csv").read_text()
+        assert "00000001" not in text and "0.9950371902" not in text, name
+    assert "0.99503719," in (tmp_path / "tracked_shapes.csv").read_text()
     # the index itself counts its records: 20 of them, a mode in 4 is under min_share
     track_campaign(modes_files, failed_files, pd.DataFrame({"record": range(20)}), TRACKING, tmp_path)
     assert pd.read_csv(tmp_path / "references.csv").empty and pd.read_csv(tmp_path / "tracked.csv").empty
