@@ -360,3 +360,45 @@ def test_a_fixed_frequency_tolerance_is_used_when_given(freq_rtol, n_modes):
     setups, results = _setups(2, _truth(), shifts=[0.0, 0.005])
     merged = merge_setups(setups, results, freq_rtol=freq_rtol, min_setups=1)
     assert len(merged.modes) == n_modes and set(merged.modes["n_setups"]) == {6 // n_modes}
+
+
+def test_the_log_names_each_setup_left_out_and_each_node_flagged():
+    """log_merge: a setup left out of the merge once (with its check and
+    evidence, not again per mode), one left out of one mode with the
+    reason, a flagged node per mode."""
+    from modal.setups._results import log_merge
+
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(5, _truth())
+    _spoil(setups, results, 4, "wrong rate")
+    results[2].complex_shapes = results[2].complex_shapes.copy()
+    results[2].complex_shapes[:2, 1] = results[2].complex_shapes[[1, 0], 1]
+    lines = []
+    log_merge(merge_setups(setups, results), lines.append)
+    assert len(lines) == 2, lines
+    assert lines[0].startswith("setup s5 left out of the merge (rate): its frequencies are 0.5 x those of 4 of 4")
+    assert lines[1].startswith("mode 2: setup s3 left out: its reference part disagrees with the others': residual")
+    truth = _truth()
+    truth[NODES.index("n0")] *= 3 * np.abs(truth).max() / np.abs(truth[NODES.index("n0")])
+    setups, results = _setups(3, truth)
+    lines = []
+    log_merge(merge_setups(setups, results), lines.append)
+    assert [line.split(":")[0] + ":" + line.split(":")[1] for line in lines] == \
+        [f"mode {k}: node n0 flagged" for k in (1, 2, 3)]
+    assert all(line.endswith("x as much as any other node: not used to normalise") for line in lines)
+
+
+def test_the_merge_does_not_depend_on_how_a_setup_scaled_its_shapes():
+    """A setup's shapes are known up to a complex factor: s2's multiplied
+    by 100 e^i give the same merged modes and shapes, also when its
+    reference part differs a little from the others' (MAC 0.99), so that
+    the consensus must weigh each setup's reference part as a direction,
+    not by its size."""
+    setups, results = _setups(3, _truth(complex_modes=True))
+    results[1].complex_shapes = np.column_stack([_tilted(results[1].complex_shapes[:, k], 0.99) for k in range(3)])
+    before = merge_setups(setups, results)
+    results[1].complex_shapes = results[1].complex_shapes * 100 * np.exp(1j)
+    after = merge_setups(setups, results)
+    pd.testing.assert_frame_equal(after.shapes, before.shapes, rtol=1e-9, atol=1e-12)
+    pd.testing.assert_frame_equal(after.modes, before.modes, rtol=1e-9)

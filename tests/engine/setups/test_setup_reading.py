@@ -1,5 +1,6 @@
 """Reading a setup (:func:`modal.setups.read_setup`): which files make a
-setup, its name, and each refusal naming the file and the fix."""
+setup, its name, and each refusal naming the file and the fix; what
+:func:`modal.setups.identify_setup` passes on."""
 
 import shutil
 from pathlib import Path
@@ -86,3 +87,20 @@ def test_a_record_alone_takes_its_channel_table_from_a_geometry_naming_its_senso
     assert list(setup.channels["channel"]) == [0, 1, 2, 3, 4, 5] and set(setup.channels["role"]) == {"reference"}
     np.testing.assert_array_equal(setup.channels.set_index("name").loc[["ch5", "ch6", "ch2"], ["x", "y"]].to_numpy(float),
                                   [[-1, 0], [0, 1], [0, -1]])
+
+
+def test_identify_setup_passes_on_the_criteria_log_and_details():
+    """The stability criteria, the log and the details reach the
+    identification of a setup (they are not options); the channels are
+    named by the record's columns the table picks (4, 2, 0, 1), not by
+    their order."""
+    import modal
+
+    setup = modal.plate_roving_test(modal.SimplySupportedPlate(1.2, 0.8, 20.0, 10.0), duration=20.0)[0][0]
+    setup = modal.Setup(setup.name, setup.record, setup.channels.iloc[[4, 2, 0, 1]].reset_index(drop=True))
+    criteria = modal.StabilityCriteria(mac_min=0.9, max_damping=0.2)
+    lines, details = [], {}
+    result, dt = modal.identify_setup(setup, "ambient", fmax=25, max_order=16, criteria=criteria, log=lines.append,
+                                      details=details)
+    assert result.criteria == criteria and dt == pytest.approx(0.01)
+    assert lines and details["settings"]["channels"] == [4, 2, 0, 1] and "spectrum" in details
