@@ -168,6 +168,8 @@ def test_report_bars_are_clipped_at_zero_and_damping_is_in_percent(tmp_path):
     frequency against the index's columns."""
     assert _interval(np.array([0.5, 2.0]), np.array([1.0, 0.1])).ravel() == \
         pytest.approx([0.5, 0.196, 1.96, 0.196])
+    # no std: no bar; a negative value (never a frequency, a damping at most): no bar below it
+    assert _interval(np.array([0.5, -0.2]), np.array([np.nan, 1.0])).ravel().tolist() == [0.0, 0.0, 0.0, 1.96]
     modes = _crossing(n=12)
     references = reference_modes(modes, n_records=12)
     tracked, untracked = track_modes(modes, references)

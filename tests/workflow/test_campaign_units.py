@@ -349,7 +349,19 @@ def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
     assert drawn.loc[(1, "1"), "x"] == pytest.approx(0.6676, abs=1e-4)
     assert drawn.loc[(2, "2"), "y"] == 1.0 and drawn.loc[(2, "2"), "x"] == pytest.approx(0.1 / 0.9)
     assert drawn.loc[(2, "1"), "x"] == pytest.approx(-0.6 / 0.9)
-    assert (drawn[["x_im", "y_im", "z_im"]].fillna(0) == 0).all().all() and (drawn["flag"] == "").all()
+    assert (drawn.loc[[(1, "2"), (2, "2")], ["x_im", "y_im"]] == 0).all().all() and (drawn["flag"] == "").all()
+    assert (drawn.loc[[(1, "1"), (2, "1")], "x_im"] == 0).all()
+    # a channel along z gives the z component (real, no imaginary part)
+    up = drawn_shapes(mean.iloc[:1], table.iloc[:1].assign(x=0.0, z=1.0), [0, 2, 1], geometry)
+    assert up["node"].tolist() == ["1"] and up["z"].tolist() == pytest.approx([1.0]) and up["z_im"].tolist() == [0.0]
+    assert up[["x", "y"]].isna().all().all()  # not measured
+    assert list(drawn_shapes(mean.iloc[:0], table, [2, 0, 1], geometry).columns) == \
+        ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"]
+    # twelve channels, one per node along x: phi_10 is the eleventh channel's, not the third's
+    twelve = pd.DataFrame([{"mode": 1, **{f"phi_{k}": k + 1.0 for k in range(12)}}])
+    along = pd.DataFrame({"channel": range(12), "node": [f"n{k}" for k in range(12)], "x": 1.0, "y": 0.0,
+                          "z": 0.0, "quantity": "acceleration", "unit": ""})
+    assert drawn_shapes(twelve, along, list(range(12)))["x"].tolist() == pytest.approx(np.arange(1, 13) / 12)
     # a channel in cm/s2 is brought to SI before the nodes are solved
     table.loc[1, "unit"] = "cm/s2"
     scaled = drawn_shapes(mean, table, [2, 0, 1], geometry).set_index(["mode", "node"])
@@ -367,6 +379,10 @@ def test_tracked_shapes_are_each_modes_aligned_mean_drawn_in_si_on_its_nodes():
         assert deformed[1][1] / deformed[0][1] == pytest.approx(drawn.loc[(mode, "2"), "y"] / drawn.loc[(mode, "2"),
                                                                                                           "x"])
     assert shapes_figure(geometry, table, [2, 0, 1], mean.iloc[:0]) is None
+    # up to three pictures a row: two modes are two columns, four are two rows of three
+    assert figure.get_size_inches().tolist() == [7.2, 3.6]
+    four = pd.concat([mean, mean.assign(mode=mean["mode"] + 2)], ignore_index=True)
+    assert shapes_figure(geometry, table, [2, 0, 1], four).get_size_inches().tolist() == pytest.approx([10.8, 7.2])
 
 
 # -- the track and report steps -------------------------------------------------
