@@ -311,7 +311,7 @@ def mean_shapes(tracked: pd.DataFrame, references: pd.DataFrame) -> pd.DataFrame
     norm and turned to the sign of the reference's shape (a real shape's
     sign is arbitrary: estimates of opposite signs would cancel), then the
     mean is normalised as every shape is
-    (:func:`modal.identification.normalise_shapes`: unit norm, largest entry
+    (``normalise_shapes`` of the identification: unit norm, largest entry
     positive).
 
     Returns
