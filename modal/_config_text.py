@@ -20,12 +20,16 @@ import yaml
 MAX_CONFIG_BYTES = 1_000_000
 MAX_ALIASES = 100
 MAX_CONFIG_NODES = 100_000
+#: PyYAML's safe loader, its C (libyaml) build where installed (the wheels
+#: carry it): the same documents, read several times faster. Every job of the
+#: workflow reads its config files again.
+SafeLoader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 #: Keys of yte, the template engine Snakemake runs over a config that sets
 #: ``__use_yte__: true``: a config is data, never code.
 YTE_KEYS = ("__use_yte__", "__definitions__", "__variables__")
 
 
-class _StrictLoader(yaml.SafeLoader):
+class _StrictLoader(SafeLoader):
     """YAML loader that refuses a key given twice in one mapping (the default
     loaders silently keep the last)."""
 
@@ -38,7 +42,7 @@ def _construct_mapping(loader, node, deep=False):
             raise ValueError(f"key {key!r} given twice in one mapping (lines {seen[key] + 1} and "
                              f"{key_node.start_mark.line + 1}); YAML would silently keep the last")
         seen[key] = key_node.start_mark.line
-    return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
+    return SafeLoader.construct_mapping(loader, node, deep=deep)
 
 
 _StrictLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
@@ -106,10 +110,10 @@ def check_config_text(path) -> None:
     with open(path, "rb") as fh:
         text = config_text(path, fh.read())
     try:
-        n_aliases = sum(isinstance(e, yaml.AliasEvent) for e in yaml.parse(text, Loader=yaml.SafeLoader))
+        n_aliases = sum(isinstance(e, yaml.AliasEvent) for e in yaml.parse(text, Loader=SafeLoader))
         if n_aliases > MAX_ALIASES:
             raise ValueError(f"{n_aliases} YAML aliases (*name), more than {MAX_ALIASES}: write the values out")
-        root = yaml.compose(text, Loader=yaml.SafeLoader)
+        root = yaml.compose(text, Loader=SafeLoader)
     except yaml.YAMLError as exc:
         raise ValueError(f"config file {path}: not valid YAML: {exc}") from None
     except ValueError as exc:

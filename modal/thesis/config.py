@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from .._config_text import (MAX_ALIASES, MAX_CONFIG_BYTES, MAX_CONFIG_NODES, YTE_KEYS,  # noqa: F401
+from .._config_text import (MAX_ALIASES, MAX_CONFIG_BYTES, MAX_CONFIG_NODES, YTE_KEYS, SafeLoader,  # noqa: F401
                             check_config_text, load_strict)
 from .chunks import study_cases
 
@@ -277,11 +277,16 @@ def validate(config: Mapping, schema) -> None:
         One line per violation, e.g. ``studies.demo.cases.c3.noise = 5: 5 is
         greater than the maximum of 1 (a fraction: 5 % is 0.05)``.
     """
-    with open(schema, encoding="utf-8") as fh:
-        document = yaml.safe_load(fh)
-    problems = schema_problems(config, document)
+    problems = schema_problems(config, read_schema(schema))
     if problems:
         raise ValueError("invalid config:\n  " + "\n  ".join(problems))
+
+
+def read_schema(schema) -> dict:
+    """The JSON schema in the YAML file ``schema`` (PyYAML's C loader where
+    installed: every job of the workflow reads it)."""
+    with open(schema, encoding="utf-8") as fh:
+        return yaml.load(fh, Loader=SafeLoader)
 
 
 def schema_problems(config: Mapping, document: Mapping) -> list[str]:
@@ -302,8 +307,7 @@ def search_problems(config: Mapping, schema) -> list[str]:
     from .search import describe, search_settings, setting_under
     from .study import SIGNAL_ORDER
 
-    with open(schema, encoding="utf-8") as fh:
-        document = yaml.safe_load(fh)
+    document = read_schema(schema)
     parts = {"$defs": document["$defs"], "type": "object",
              "properties": {k: document["properties"][k] for k in ("beams", "studies")}}
     problems = []
