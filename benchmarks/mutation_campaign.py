@@ -90,6 +90,8 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
     "_jobs.py": [UNITS + t for t in (
         "test_a_failure_reason_is_one_line", "test_gather_reads_every_chunk_in_order",
         "test_shapes_are_channels_by_modes_in_channel_order", "test_a_chunk_writes_each_mode_and_each_failure",
+        "test_each_warning_of_a_record_is_one_line_in_the_jobs_log", "test_a_chunk_keeps_the_trusted_modes_only",
+        "test_a_record_in_other_units_fails_naming_them",
         "test_the_rate_is_compared_to_one_part_in_a_billion")] + [
         OPTIONS + "test_each_option_in_a_campaign_file_reaches_identify_record"],
     "_hashes.py": [UNITS + "test_a_file_hash_is_the_sha256_of_all_its_bytes",

@@ -620,6 +620,24 @@ def test_each_warning_of_a_record_is_one_line_in_the_jobs_log(folder, monkeypatc
     assert identify_one(folder / "a.npz", config["identify"]).modes["mode"].tolist() == [1, 2]
 
 
+def test_a_chunk_keeps_the_trusted_modes_only(folder, monkeypatch, tmp_path):
+    """A mode the selection flags as doubtful (its flag says why) is not
+    written, so never tracked; an empty or missing flag is trusted."""
+    def identify_record(acc, dt, options):
+        result = Result(acc, dt)
+        result.modes = pd.concat([result.modes, result.modes.iloc[:1].assign(mode=3)], ignore_index=True)
+        result.modes["flag"] = ["", "low MPC 0.41", np.nan]
+        result.shapes = np.hstack([result.shapes, result.shapes[:, :1] + 100])
+        return result, None
+
+    monkeypatch.setattr(modal.measured, "identify_record", identify_record)
+    config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
+    identify_chunk(index.iloc[:1], config["identify"], tmp_path / "m.csv", tmp_path / "f.csv", config["layout"])
+    modes = pd.read_csv(tmp_path / "m.csv")
+    assert modes["mode"].tolist() == [1, 3]
+    assert modes["phi_0"].iloc[1] == pytest.approx(modes["phi_0"].iloc[0] + 100)
+
+
 def _lvm(path, unit, n=400):
     """A one-channel LabVIEW record at 20 Hz whose header names its unit."""
     header = ("LabVIEW Measurement\t\nWriter_Version\t2\nReader_Version\t2\nSeparator\tTab\nDecimal_Separator\t.\n"
