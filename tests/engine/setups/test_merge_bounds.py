@@ -402,3 +402,64 @@ def test_the_merge_does_not_depend_on_how_a_setup_scaled_its_shapes():
     after = merge_setups(setups, results)
     pd.testing.assert_frame_equal(after.shapes, before.shapes, rtol=1e-9, atol=1e-12)
     pd.testing.assert_frame_equal(after.modes, before.modes, rtol=1e-9)
+
+
+def _seven_hz(results, freqs):
+    for result, f in zip(results, freqs):
+        result.modes.loc[1, "freq_hz"] = f
+
+
+@pytest.mark.parametrize("freqs, n_setups", [
+    ([7.0, 7.03, 7.015 * 1.0095], [3]),  # 0.95 % above the mean of the first two: within their scatter (1.06 %)
+    ([7.0, 7.03, 7.2], [2, 1]),  # 2.6 % above: beyond it
+    ([7.0, 7.1, 7.05], [3]),  # in order of frequency 7.05 joins 7.0 first, then 7.1 joins both
+])
+def test_a_cluster_s_tolerance_grows_with_its_members_scatter(freqs, n_setups):
+    """The 7 Hz mode of three setups (uncertainty 0.2 % or 0.3 %): a mode
+    joins a cluster within 3 combined standard deviations of its own
+    uncertainty and the cluster's (the members' uncertainty and their
+    scatter about their mean); modes are matched in order of frequency."""
+    setups, results = _setups(3, _truth(), freq_std=0.003 if freqs[1] == 7.1 else 0.002)
+    _seven_hz(results, freqs)
+    merged = merge_setups(setups, results, min_setups=1)
+    seven = merged.modes[merged.modes["freq_hz"].round() == 7]
+    assert list(seven["n_setups"]) == n_setups
+
+
+def test_a_cluster_of_three_leaves_out_a_member_that_disagrees_with_the_other_two():
+    """Three setups, s3's 7 Hz reference part swapped (MAC 0.95 with the
+    others': it matches at 0.8 but its residual is 0.22 > 0.2): left out of
+    that mode, which the other two still merge."""
+    setups, results = _setups(3, _truth())
+    results[2].complex_shapes = results[2].complex_shapes.copy()
+    results[2].complex_shapes[:2, 1] = results[2].complex_shapes[[1, 0], 1]
+    merged = merge_setups(setups, results)
+    assert list(merged.modes["n_setups"]) == [3, 2, 3] and list(merged.modes["left_out"]) == ["", "s3", ""]
+    row = merged.matches.query("status == 'left out'")
+    assert list(row["setup"]) == ["s3"] and row["ref_mac"].iloc[0] == pytest.approx(0.95, abs=0.01)
+
+
+def test_a_fixed_tolerance_includes_its_bound():
+    """freq_rtol 0.03: modes exactly 3 % apart (100 and 103 Hz, 200 and 206
+    Hz) are one mode each."""
+    setups, results = _setups(2, _truth())
+    _two_modes(results)
+    for s, result in enumerate(results):
+        result.modes = result.modes.assign(freq_hz=np.array([100.0, 200.0]) * (1.03 if s else 1.0))
+    merged = merge_setups(setups, results, freq_rtol=0.03)
+    assert list(merged.modes["n_setups"]) == [2, 2]
+
+
+def test_a_mode_passes_over_a_near_cluster_of_another_shape_to_a_farther_one_of_its_own():
+    """s1 has modes at 7.0 Hz (shape of mode 2) and 7.03 Hz (shape of mode
+    1), s2 one at 7.05 Hz with mode 1's shape: after 7.0 Hz's cluster
+    refuses it (MAC 0.08) it still joins s1's 7.03 Hz."""
+    setups, results = _setups(2, _truth())
+    first, second = results
+    first.modes = pd.concat([first.modes, first.modes.iloc[[0]].assign(mode=4, freq_hz=7.03)], ignore_index=True)
+    first.complex_shapes = first.complex_shapes[:, [0, 1, 2, 0]]
+    second.modes.loc[1, "freq_hz"] = 7.05
+    second.complex_shapes = second.complex_shapes[:, [0, 0, 2]]
+    merged = merge_setups(setups, results)
+    np.testing.assert_allclose(merged.modes["freq_hz"], [3.0, 7.04, 11.0], rtol=2e-3)
+    assert list(merged.modes["n_setups"]) == [2, 2, 2]
