@@ -154,19 +154,17 @@ def drawn_shapes(shapes: pd.DataFrame, table: pd.DataFrame, shape_channels, geom
         ``y``, ``z``, ``x_im``, ``y_im``, ``z_im``, ``flag``. Each channel's
         value is brought to SI by its unit; each node's motion is solved
         from its channels (:func:`modal.setups.node_shapes`) and the shape
-        normalised by the roving route's rule (:func:`modal.setups._merge.normalise`:
+        normalised by the roving route's rule (:func:`modal.setups.normalise`:
         largest component 1 among the nodes that agree with their
         neighbours; the others flagged).
     """
-    from ..setups import node_shapes
-    from ..setups._channels import unit_factor
-    from ..setups._merge import _neighbours, normalise
+    from ..setups import node_neighbours, node_shapes, normalise, unit_factor
 
     position = {int(c): k for k, c in enumerate(shape_channels)}
     entries = [position[int(c)] for c in table["channel"]]
     where = [(str(node), tuple(e)) for node, e in zip(table["node"], table[["x", "y", "z"]].to_numpy(dtype=float))]
     factors = np.array([unit_factor(q, u) for q, u in zip(table["quantity"], table["unit"])])
-    neighbours, rows = _neighbours(geometry), []
+    neighbours, rows = node_neighbours(geometry), []
     for mode, phi in zip(shapes["mode"], _phi(shapes)):
         per_node = node_shapes(where, phi[entries] * factors)
         pivot, flags = normalise(per_node, neighbours)

@@ -9,8 +9,7 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
-from ..identification import mac
-from ..identification._result import normalise_shapes
+from ..identification import mac, normalise_shapes
 from ._jobs import shape_matrix
 
 TRACKED_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "mac"]

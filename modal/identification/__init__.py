@@ -15,12 +15,13 @@ from ._fdd import SingularValueSpectrum, auto_mac, efdd, fdd, spectral_support
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
-from ._result import FLAGS, ModalResult, ModalWarning
+from ._result import FLAGS, ModalResult, ModalWarning, normalise_shapes
 from ._stabilisation import QUANTITIES, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure) and segment_std are importable from here for the
-# other subpackages (a channel table checks its quantities against QUANTITIES); the names
+# QUANTITIES (what a channel may measure), segment_std and normalise_shapes are importable from
+# here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
+# campaign averages shapes by the identification's scaling); the names
 # below are also re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",

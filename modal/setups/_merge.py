@@ -366,7 +366,7 @@ def node_shapes(channel_rows, values) -> dict:
     return out
 
 
-def _neighbours(geometry) -> dict | None:
+def node_neighbours(geometry) -> dict | None:
     """Node -> the nodes a line or a link joins it to (None without a
     geometry)."""
     if geometry is None:
@@ -452,7 +452,7 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
             kept.append((members, ejected))
     kept.sort(key=lambda c: np.mean([it[2] for it in c[0]]))
     used = {(it[0], it[1]) for members, _ in kept for it in members}
-    neighbours = _neighbours(geometry)
+    neighbours = node_neighbours(geometry)
     modes, shape_rows, matches = [], [], []
     for number, (cluster, ejected) in enumerate(kept, start=1):
         # doubtful where every setup that selected it flags it (the selection's or the witness's reasons)
