@@ -345,7 +345,7 @@ def test_a_merged_complex_mode_keeps_the_truths_phase_collinearity():
         rows, _ = _merged_shape(merged, k + 1)
         exact = truth[[NODES.index(n) for n in rows.index], k]
         assert merged.modes["mpc"].iloc[k] == pytest.approx(modal_phase_collinearity(exact[:, None])[0], rel=1e-9)
-    assert (merged.modes["mpc"] < 0.95).all()
+    assert (merged.modes["mpc"] < 0.95).all() and (merged.modes["flag"] == "").all()  # no flag column: trusted
     alone = merge_setups(setups[:1], results[:1])
     assert list(alone.modes["n_setups"]) == [1, 1, 1]
     assert alone.modes[["freq_spread_hz", "damping_spread", "ref_mac"]].isna().all().all()
@@ -463,3 +463,74 @@ def test_a_mode_passes_over_a_near_cluster_of_another_shape_to_a_farther_one_of_
     merged = merge_setups(setups, results)
     np.testing.assert_allclose(merged.modes["freq_hz"], [3.0, 7.04, 11.0], rtol=2e-3)
     assert list(merged.modes["n_setups"]) == [2, 2, 2]
+
+
+@pytest.mark.parametrize("offset, listed", [(0.015, True), (0.025, False)])
+def test_a_setup_s_mode_of_another_shape_is_named_within_the_tolerance_only(offset, listed):
+    """s3's modes near 7 Hz have a reference part orthogonal to the
+    others' (they cannot join): the nearer of two within the tolerance
+    (1.7 %: uncertainty 0.4 % each) is named as left out with its number;
+    none is named when both lie beyond it."""
+    setups, results = _setups(4, _truth())
+    third = results[2]
+    orthogonal = third.complex_shapes[:, 1].copy()
+    orthogonal[:2] = [-np.conj(orthogonal[1]), np.conj(orthogonal[0])]
+    third.modes = pd.concat([third.modes, third.modes.iloc[[1]].assign(mode=4)], ignore_index=True)
+    third.modes.loc[1, "freq_hz"] = 7.0 * (1 - offset - 0.0015)  # below, a little farther
+    third.modes.loc[3, "freq_hz"] = 7.0 * (1 + offset)  # the nearer, listed last
+    third.complex_shapes = np.column_stack([third.complex_shapes, orthogonal])
+    third.complex_shapes[:, 1] = orthogonal
+    merged = merge_setups(setups, results)
+    row = merged.matches.query("setup == 's3' and mode == 2")
+    assert list(merged.modes["n_setups"]) == [4, 3, 4]
+    if listed:
+        assert list(row["status"]) == ["left out"] and list(row["setup_mode"]) == [4]
+        assert row["freq_hz"].iloc[0] == pytest.approx(7.0 * (1 + offset))
+    else:
+        assert row.empty
+
+
+def test_modes_are_numbered_by_their_mean_frequency():
+    """Two clusters near 7 Hz of different shapes: (7.0, 7.2) with mean 7.1
+    and (7.05, 7.06) with mean 7.055; the second is mode 2, the first 3."""
+    setups, results = _setups(2, _truth(), freq_std=0.02)
+    first, second = results
+    first.modes = pd.concat([first.modes, first.modes.iloc[[0]].assign(mode=4, freq_hz=7.05)], ignore_index=True)
+    first.complex_shapes = first.complex_shapes[:, [0, 1, 2, 0]]
+    second.modes = pd.concat([second.modes, second.modes.iloc[[0]].assign(mode=4, freq_hz=7.06)], ignore_index=True)
+    second.complex_shapes = second.complex_shapes[:, [0, 1, 2, 0]]
+    _seven_hz(results, [7.0, 7.2])
+    merged = merge_setups(setups, results)
+    np.testing.assert_allclose(merged.modes["freq_hz"], [3.0, 7.055, 7.1, 11.0], rtol=1e-3)
+
+
+def test_a_mode_from_the_diagram_is_looked_for_within_the_mode_s_own_tolerance():
+    """s2 did not select the 7 Hz mode; its diagram has a stable pole of
+    the right shape 2 % away, beyond the mode's tolerance (1.2 %: its
+    members' uncertainty 0.4 %): not taken."""
+    setups, results = _setups(3, _truth())
+    second = results[1]
+    second.poles = pd.DataFrame({"freq_hz": [7.15], "damping": [0.01], "stable": [True], "physical": [True]})
+    second.pole_shapes = second.complex_shapes[:, [1]].T
+    second.modes = second.modes.drop(index=1).reset_index(drop=True)
+    second.complex_shapes = second.complex_shapes[:, [0, 2]]
+    merged = merge_setups(setups, results)
+    assert list(merged.modes["n_setups"]) == [3, 2, 3] and list(merged.modes["n_from_diagram"]) == [0, 0, 0]
+
+
+def test_one_setup_without_references_is_not_rescaled():
+    setups, results = _setups(1, _truth())
+    setups = [Setup("alone", setups[0].record, setups[0].channels.assign(role="roving"))]
+    assert list(merge_setups(setups, results).matches["scale"]) == [1.0, 1.0, 1.0]
+
+
+def test_a_setup_failing_two_checks_gives_both_reasons():
+    from .test_merge_checks import _spoil
+
+    setups, results = _setups(3, _truth())
+    _spoil(setups, results, 1, "unit slip")
+    _spoil(setups, results, 1, "wrong rate")
+    merged = merge_setups(setups, results)
+    assert sorted(merged.disagreements["check"]) == ["rate", "reference levels"]
+    reasons = merged.matches.query("setup == 's2'")["reason"]
+    assert (reasons.str.count("; a wrong sampling rate|; its reference channels record") == 1).all(), list(reasons)
