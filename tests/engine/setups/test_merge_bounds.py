@@ -13,7 +13,7 @@ from modal.records import MeasuredRecord
 from modal.setups import Setup, merge_setups
 from modal.setups._agreement import rate_ratio, relative_uncertainty, tolerance
 
-from .test_merge_checks import NODES, _merged_shape, _setups, _truth
+from .test_merge_checks import NODES, _assert_merged_shapes_are_the_truth, _merged_shape, _setups, _truth
 
 
 def _levelled(setups, factors=None):
@@ -147,11 +147,7 @@ def test_a_channel_table_with_an_index_of_its_own_merges_as_renumbered():
     merged = merge_setups(_levelled(picked), results)
     pd.testing.assert_frame_equal(merged.modes, expected.modes)
     pd.testing.assert_frame_equal(merged.shapes, expected.shapes)
-    for k in range(3):
-        rows, shape = _merged_shape(merged, k + 1)
-        exact = truth[[NODES.index(n) for n in rows.index], k]
-        ratio = shape.to_numpy() / exact
-        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+    _assert_merged_shapes_are_the_truth(merged, truth)
 
 
 def test_swapped_references_are_seen_in_modes_paired_within_the_tolerance():

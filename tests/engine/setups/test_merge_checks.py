@@ -101,6 +101,18 @@ def _merged_shape(merged, mode):
     return rows, (rows["z"] + 1j * rows["z_im"])
 
 
+def _assert_merged_shapes_are_the_truth(merged, truth, n_modes=3):
+    """Each merged mode's shape is its true shape times one complex number
+    at every node (phases included); returns the merged shapes."""
+    shapes = []
+    for k in range(n_modes):
+        rows, shape = _merged_shape(merged, k + 1)
+        ratio = shape.to_numpy() / truth[[NODES.index(node) for node in rows.index], k]
+        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+        shapes.append(shape)
+    return shapes
+
+
 def test_complex_modes_rescaled_with_a_complex_scale_per_setup_keep_their_phases():
     """Complex modes, each setup's shapes a different complex multiple of the
     truth: the merged shape is the truth times one complex number at every
@@ -110,11 +122,7 @@ def test_complex_modes_rescaled_with_a_complex_scale_per_setup_keep_their_phases
     setups, results = _setups(5, truth)
     merged = merge_setups(setups, results)
     assert len(merged.modes) == 3 and (merged.modes["n_setups"] == 5).all()
-    for k in range(3):
-        rows, shape = _merged_shape(merged, k + 1)
-        exact = truth[[NODES.index(n) for n in rows.index], k]
-        ratio = shape.to_numpy() / exact
-        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+    for shape in _assert_merged_shapes_are_the_truth(merged, truth):
         assert np.nanmax(np.abs(shape)) == pytest.approx(1.0)
     assert (merged.matches["ref_mac"] > 0.999999).all() and (merged.matches["status"] == "merged").all()
 
@@ -376,11 +384,7 @@ def test_one_setup_without_references_gives_its_own_modes():
     assert len(merged.modes) == 3 and (merged.modes["n_setups"] == 1).all()
     assert merged.matches["ref_mac"].isna().all() and merged.modes["ref_mac"].isna().all()
     assert merged.disagreements.empty and list(merged.matches["setup_mode"]) == [1, 2, 3]
-    for k in range(3):
-        rows, shape = _merged_shape(merged, k + 1)
-        exact = truth[[NODES.index(node) for node in rows.index], k]
-        ratio = shape.to_numpy() / exact
-        np.testing.assert_allclose(ratio, ratio[0], rtol=1e-9)
+    _assert_merged_shapes_are_the_truth(merged, truth)
 
 
 def test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes():
