@@ -502,6 +502,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     whose ``U^T H_k(0)`` is exactly singular, gives none); NaN where fewer
     than two did.
 
+    Modes whose fullest model has the same order share that order's state
+    matrix: each segment solves and decomposes ``A_k`` once per distinct
+    order (usually one, ``max_order``), not once per mode.
+
     Returns
     -------
     freq_std_hz, damping_std : ndarray, shape (n_modes,)
@@ -523,13 +527,16 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
         seeds.append((int(order[r]), omega * complex(-zeta, np.sqrt(max(1 - zeta**2, 0.0)))))
     n_max = max(n for n, _ in seeds)
     u = p[:, :n_max]
+    by_order = {}  # the modes of each fullest order: one state matrix per segment and order
+    for j, (n, _) in enumerate(seeds):
+        by_order.setdefault(n, []).append(j)
     freq, damping = np.full((k_seg, n_modes), np.nan), np.full((k_seg, n_modes), np.nan)
     for k, segment in enumerate(segments):
         h = hankel(segment, rows + 1, cols, start)
         # g0^T = Q R, so g0[:n]^+ = Q[:, :n] R[:n, :n]^-T for every n, and A_k^T = R[:n, :n]^-1 (g1 Q)[:n, :n]^T
         q, r = np.linalg.qr((u.T @ h[:-l]).T)
         w = (u.T @ h[l:]) @ q
-        for j, (n, s0) in enumerate(seeds):
+        for n, modes_n in by_order.items():
             try:
                 a_t = solve_triangular(r[:n, :n], w[:n, :n].T)
             except np.linalg.LinAlgError:  # the segment's H_k(0) has lost rank in that basis: no eigenvalue
@@ -539,9 +546,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
                 s = np.log(z.astype(complex)) / dt
             s = s[np.isfinite(s)]
             if s.size:
-                near = s[np.argmin(np.abs(s - s0))]
-                freq[k, j] = abs(near) / (2 * np.pi)
-                damping[k, j] = -near.real / abs(near)
+                for j in modes_n:
+                    near = s[np.argmin(np.abs(s - seeds[j][1]))]
+                    freq[k, j] = abs(near) / (2 * np.pi)
+                    damping[k, j] = -near.real / abs(near)
     from scipy.stats import norm, t
 
     # K per mode: the segments that gave an estimate
@@ -686,31 +694,54 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
 def _consistent(clusters, zeta, misfit, criteria):
     """Which poles agree with their cluster's own scatter in damping and in
     shape (``misfit``: ``1 - MAC`` with the cluster's medoid): see
-    :func:`_select_modes`, step 3."""
-    member = np.zeros(len(clusters), dtype=bool)
+    :func:`_select_modes`, step 3. ``clusters`` numbers the clusters
+    ``0 ... n - 1``, each with a pole."""
     k = criteria.scatter_k * MAD_SCALE
-    for c in range(clusters.max() + 1):
-        inside = clusters == c
-        z, e = zeta[inside], misfit[inside]
-        z_centre, e_centre = np.median(z), np.median(e)
-        z_tol = max(k * np.median(np.abs(z - z_centre)), criteria.cluster_distance)
-        e_tol = max(e_centre + k * np.median(np.abs(e - e_centre)), 1 - criteria.mac_min)
-        member[inside] = (np.abs(z - z_centre) <= z_tol) & (e <= e_tol)
-    return member
+    n_clusters = clusters.max() + 1
+    z_centre = _group_medians(clusters, zeta, n_clusters)[clusters]
+    e_centre = _group_medians(clusters, misfit, n_clusters)[clusters]
+    z_mad = _group_medians(clusters, np.abs(zeta - z_centre), n_clusters)[clusters]
+    e_mad = _group_medians(clusters, np.abs(misfit - e_centre), n_clusters)[clusters]
+    z_tol = np.maximum(k * z_mad, criteria.cluster_distance)
+    e_tol = np.maximum(e_centre + k * e_mad, 1 - criteria.mac_min)
+    return (np.abs(zeta - z_centre) <= z_tol) & (misfit <= e_tol)
 
 
 def _shape_scatter(clusters, member, macs, scatter_k):
     """Per cluster, how far apart two of its member poles' shapes may lie:
     the median ``1 - MAC`` over its pairs of members plus ``scatter_k``
     robust standard deviations of it (0 for fewer than two members)."""
-    scatter = np.zeros(clusters.max() + 1)
-    for c in range(len(scatter)):
-        inside = np.flatnonzero(member & (clusters == c))
-        pairs = 1 - macs[np.ix_(inside, inside)][np.triu_indices(len(inside), 1)]
-        if pairs.size:
-            centre = np.median(pairs)
-            scatter[c] = centre + scatter_k * MAD_SCALE * np.median(np.abs(pairs - centre))
-    return scatter
+    n_clusters = clusters.max() + 1
+    inside = np.flatnonzero(member)
+    first, second = np.triu_indices(len(inside), 1)
+    same = clusters[inside[first]] == clusters[inside[second]]  # the pairs of members of one cluster
+    first, second = inside[first[same]], inside[second[same]]
+    pair_cluster, pairs = clusters[first], 1 - macs[first, second]
+    centre = _group_medians(pair_cluster, pairs, n_clusters)
+    spread = _group_medians(pair_cluster, np.abs(pairs - centre[pair_cluster]), n_clusters)
+    scatter = centre + scatter_k * MAD_SCALE * spread
+    return np.where(np.bincount(pair_cluster, minlength=n_clusters) > 0, scatter, 0.0)
+
+
+def _group_medians(groups, values, n_groups):
+    """The median of ``values`` within each group ``0 ... n_groups - 1``
+    (``groups``: each value's group), as :func:`numpy.median` gives it
+    (the middle value, or the mean of the two middle ones), for all groups
+    by one sort; NaN for a group without values. ``values`` are finite.
+
+    Examples
+    --------
+    >>> _group_medians(np.array([0, 1, 0, 1, 1]), np.array([4.0, 1.0, 2.0, 3.0, 2.0]), 3)
+    array([3., 2., nan])
+    """
+    counts = np.bincount(groups, minlength=n_groups)
+    ranked = values[np.lexsort((values, groups))]  # by group, then by value
+    starts = np.cumsum(counts) - counts
+    lower, upper = starts + (counts - 1) // 2, starts + counts // 2  # one index twice for an odd count
+    taken = counts > 0
+    medians = np.full(n_groups, np.nan)
+    medians[taken] = (ranked[lower[taken]] + ranked[upper[taken]]) / 2
+    return medians
 
 
 def _second_estimates(modes, count, freq, damping, clusters, member, macs, shape_scatter):

@@ -581,3 +581,18 @@ def test_bad_segments_are_refused_naming_them():
 
     with pytest.raises(ValueError, match="^segments"):
         segment_std([np.ones((10, 2)), np.full((10, 2), np.nan)], None, {}, None, 2, 2, 0, 2, 0.01)
+
+
+def test_group_medians_are_numpys_medians_of_each_group():
+    """The selection's per-cluster medians (one sort for all clusters) equal
+    numpy's median of each cluster exactly: odd and even counts (the mean of
+    the two middle values), groups given in any order, a group of one, and
+    NaN for a group without values."""
+    from modal.identification._stabilisation import _group_medians
+
+    rng = np.random.default_rng(5)
+    groups = rng.permutation(np.repeat(np.arange(6), [1, 2, 3, 4, 7, 8]))
+    values = rng.standard_normal(len(groups))
+    got = _group_medians(groups, values, 8)
+    expected = [np.median(values[groups == g]) for g in range(6)]
+    assert got[:6].tolist() == expected and np.isnan(got[6:]).all()

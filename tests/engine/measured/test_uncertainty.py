@@ -164,3 +164,59 @@ def test_segments_span_six_times_the_lags_when_the_record_allows_four(minutes, s
     assert settings["n_lags"] == 121
     assert settings["uncertainty_segments"] == segments
     assert settings["segment_samples"] == length
+
+
+def _std_one_mode_at_a_time(segments, p, poles, modes, rows, cols, l, dt):
+    """``segment_std`` written out per mode, from its definition: ``U`` the
+    leading ``n`` left singular vectors at the mode's fullest order ``n``,
+    ``A_k = (U^T H_k(1)) (U^T H_k(0))^+`` per segment, the eigenvalue nearest
+    the mode's pole there."""
+    from scipy.stats import norm, t
+
+    from modal.identification._hankel import hankel
+
+    out = []
+    for number, f in zip(modes["mode"], modes["freq_hz"]):
+        members = np.flatnonzero(poles["mode"] == number)
+        members = members[poles["order"][members] == poles["order"][members].max()]
+        r = members[np.argmin(np.abs(poles["freq_hz"][members] - f))]
+        n, zeta = int(poles["order"][r]), poles["damping"][r]
+        s0 = 2 * np.pi * poles["freq_hz"][r] * complex(-zeta, np.sqrt(1 - zeta**2))
+        u, estimates = p[:, :n], []
+        for segment in segments:
+            h = hankel(segment, rows + 1, cols)
+            z = np.linalg.eigvals((u.T @ h[l:]) @ np.linalg.pinv(u.T @ h[:-l]))
+            s = np.log(z.astype(complex)) / dt
+            estimates.append(abs(s[np.argmin(np.abs(s - s0))]) / (2 * np.pi))
+        k = len(estimates)
+        out.append(np.std(estimates, ddof=1) * t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k))
+    return np.array(out)
+
+
+def test_each_mode_takes_the_state_matrix_of_its_own_fullest_order():
+    """Modes whose fullest models have different orders (one mode's poles
+    at the highest order taken out): each mode's std is that of the
+    eigenvalues of its own order's state matrix, as computed one mode at a
+    time (segment_std decomposes each order's state matrix once per
+    segment and shares it between the modes of that order)."""
+    from modal.identification import segment_std
+    from modal.identification._era_kernels import decompose
+    from modal.identification._hankel import hankel
+
+    omega, modes = shear_frame_modes()
+    acc = modal.ambient_response(omega, DAMPING, modes, modes, 6000, 0.05, seed=3, force_rms=100.0)
+    acc += 0.05 * acc.std(axis=0) * np.random.default_rng(1).standard_normal(acc.shape)
+    acc = modal.detrend(acc)
+    rows, cols, l, dt = 60, 61, 4, 0.05
+    segments = [modal.correlations(acc[k * 1500:(k + 1) * 1500], 121) for k in range(4)]
+    result = modal.stabilisation(modal.correlations(acc, 121), dt, 20, rows)
+    assert len(result.modes) >= 3
+    p = decompose(hankel(modal.correlations(acc, 121), rows + 1, cols)[:-l], 20, block=(l, 4))[0]
+    poles = {c: result.poles[c].to_numpy() for c in ("mode", "order", "freq_hz", "damping")}
+    top = poles["order"].max()
+    lowered = result.modes["mode"].iloc[1]
+    poles["mode"] = np.where((poles["mode"] == lowered) & (poles["order"] == top), 0, poles["mode"])
+    assert poles["order"][poles["mode"] == lowered].max() < top  # two fullest orders among the modes
+    freq_std, _ = segment_std(segments, p, poles, result.modes, rows, cols, 0, l, dt)
+    expected = _std_one_mode_at_a_time(segments, p, poles, result.modes, rows, cols, l, dt)
+    np.testing.assert_allclose(freq_std, expected, rtol=1e-6)
