@@ -112,35 +112,52 @@ def _medoid(shapes: np.ndarray, members: np.ndarray) -> int:
     return int(sample[int(np.argmax(mac(shapes[:, sample], shapes[:, sample]).sum(axis=0)))])
 
 
-def _join_split_modes(label, f, shapes, record, freq_rtol, mac_min) -> np.ndarray:
+def _join_split_modes(label, f, shapes, record, freq_rtol, mac_min, damping=None) -> np.ndarray:
     """Labels with the clusters of one mode joined: largest first, a cluster
     joins the larger one whose medoid shape matches its own best (MAC >=
     ``mac_min``) when their frequency ranges lie within ``freq_rtol`` of
-    each other and they share at most :data:`SPLIT_SHARE` of its records
-    (the single linkage never merges clusters sharing a record, so one
-    record holding a mode twice splits it). Modes that cross keep their
-    medoids' MAC near 0 and stay apart."""
+    each other and
+
+    - they share at most :data:`SPLIT_SHARE` of its records (the single
+      linkage never merges clusters sharing a record, so one record holding
+      a mode twice splits it), or
+    - they lie within one resonance peak, whatever records they share: their
+      median frequencies at most the sum of their half-power half-widths
+      apart, ``|f_a - f_b| <= zeta_a f_a + zeta_b f_b`` (median frequency
+      and damping ratio of each; ``damping``: each estimate's; without it,
+      this rule is not applied). One shape within one peak is one mode
+      whose record-by-record identification sometimes gives a second
+      estimate beside the first (as
+      :func:`modal.stabilisation` states a second estimate within the
+      half-power band of one record); modes of one shape closer than that
+      are not told apart by their spectra either.
+
+    Modes that cross keep their medoids' MAC near 0 and stay apart."""
+    zeta = np.zeros(len(f)) if damping is None else np.nan_to_num(np.asarray(damping, dtype=float))
     clusters = [np.flatnonzero(label == c) for c in np.unique(label)]
     clusters.sort(key=len, reverse=True)
-    kept = []  # (members, medoid, low, high, records)
+    kept = []  # (members, medoid, low, high, records, median frequency, half-power half-width)
     for members in clusters:
         medoid, low, high = _medoid(shapes, members), f[members].min(), f[members].max()
         records = set(record[members])
+        centre = float(np.median(f[members]))
+        half_width = float(np.median(zeta[members])) * centre
         best, best_mac = None, mac_min
-        for k, (_, other, other_low, other_high, other_records) in enumerate(kept):
+        for k, (_, other, other_low, other_high, other_records, other_centre, other_half) in enumerate(kept):
             if low > other_high * (1 + freq_rtol) or high < other_low * (1 - freq_rtol):
                 continue
-            if len(records & other_records) > SPLIT_SHARE * len(records):
+            one_peak = damping is not None and abs(centre - other_centre) <= half_width + other_half
+            if not one_peak and len(records & other_records) > SPLIT_SHARE * len(records):
                 continue
             similarity = float(mac(shapes[:, [medoid]], shapes[:, [other]])[0, 0])
             if similarity >= best_mac:
                 best, best_mac = k, similarity
         if best is None:
-            kept.append((members, medoid, low, high, records))
+            kept.append((members, medoid, low, high, records, centre, half_width))
         else:
-            joined, other, other_low, other_high, other_records = kept[best]
+            joined, other, other_low, other_high, other_records, other_centre, other_half = kept[best]
             kept[best] = (np.concatenate([joined, members]), other, min(low, other_low), max(high, other_high),
-                          other_records | records)
+                          other_records | records, other_centre, other_half)
     joined = np.empty(len(f), dtype=int)
     for k, (members, *_) in enumerate(kept):
         joined[members] = k
@@ -159,7 +176,10 @@ def reference_modes(modes: pd.DataFrame, n_records: int, freq_rtol=0.05, min_sha
     ``1 - MAC`` over ``1 - mac_min``), never merging two clusters that share
     a record (a record shows a mode once); clusters of one shape whose
     frequencies meet and that share only a few records (a mode shown twice
-    in those: :data:`SPLIT_SHARE`) are joined after. A mode drifting with
+    in those: :data:`SPLIT_SHARE`), or that lie within one resonance peak
+    (median frequencies at most the sum of their half-power half-widths
+    apart: a mode some records show twice, a second estimate beside the
+    first), are joined after. A mode drifting with
     the temperature is one chain of
     neighbours, however sparse the records (a step of up to ``freq_rtol``
     between neighbours); two modes that cross in frequency stay apart when their
@@ -193,7 +213,8 @@ def reference_modes(modes: pd.DataFrame, n_records: int, freq_rtol=0.05, min_sha
     shapes = shape_matrix(ordered)
     record = ordered["record"].to_numpy()
     label = _clusters(f, _unit_shapes(shapes), record, freq_rtol, mac_min)
-    label = _join_split_modes(label, f, shapes, record, freq_rtol, mac_min)
+    damping = ordered["damping"].to_numpy(dtype=float) if "damping" in ordered else None
+    label = _join_split_modes(label, f, shapes, record, freq_rtol, mac_min, damping)
     rows = []
     for cluster in np.unique(label):
         members = np.flatnonzero(label == cluster)
