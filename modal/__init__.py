@@ -41,8 +41,8 @@ _LAZY_NAMES = {
     "measured": (
         "IdentifyOptions", "OutputError", "available_memory", "identify_record", "memory_needed", "write_identification",
     ),
-    "records": ("MeasuredRecord", "clipped_samples", "clipping_warnings", "load_record", "read_record",
-                "save_record_npz", "write_uff58"),
+    "records": ("MeasuredRecord", "clipped_samples", "clipping_warnings", "despiked", "load_record", "read_record",
+                "save_record_npz", "spike_samples", "spike_warnings", "write_uff58"),
     "setups": (
         "Geometry", "MergedModes", "Setup", "check_setups", "direction_from_angles", "draw_mode", "draw_modes",
         "identify_setup", "merge_setups", "mode_shape_animation", "mode_shape_figure", "modes_figure",
@@ -95,8 +95,8 @@ if TYPE_CHECKING:  # what static type checkers and IDEs see; never run (tested a
                                  stabilisation, stabilisation_figure, tcm)
     from .measured import (IdentifyOptions, OutputError, available_memory, identify_record, memory_needed,
                            write_identification)
-    from .records import (MeasuredRecord, clipped_samples, clipping_warnings, load_record, read_record,
-                          save_record_npz, write_uff58)
+    from .records import (MeasuredRecord, clipped_samples, clipping_warnings, despiked, load_record, read_record,
+                          save_record_npz, spike_samples, spike_warnings, write_uff58)
     from .setups import (Geometry, MergedModes, Setup, check_setups, direction_from_angles, draw_mode, draw_modes,
                          identify_setup, merge_setups, mode_shape_animation, mode_shape_figure, modes_figure,
                          node_motion, node_shapes, plate_roving_test, read_channel_table, read_geometry,

@@ -13,7 +13,7 @@ import pandas as pd
 
 from .._checks import positive_float, unit_scale
 from ..identification import ModalWarning, Stabilisation, StabilityCriteria, stabilisation
-from ..records import clipping_warnings
+from ..records import clipping_warnings, despiked, spike_samples, spike_warnings
 from ._options import IdentifyOptions, identify_options
 
 #: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
@@ -294,9 +294,13 @@ def identify_record(
     labels = channels if channel_labels is None else list(channel_labels)
     if len(labels) != acc.shape[1]:
         raise ValueError(f"channel_labels: {len(labels)} labels for {acc.shape[1]} channels used")
+    raw = acc
+    spikes = spike_samples(raw)
+    if any(at.size for at in spikes):
+        acc = despiked(raw, spikes)  # the straight line between each spike's neighbours (modal.despiked)
     y = detrend(acc)  # a copy of the record, the only one of its size
     _refuse_no_vibration(np.asarray(acc, dtype=float), y, labels)
-    for message in clipping_warnings(acc, 1 / dt, labels):
+    for message in clipping_warnings(raw, 1 / dt, labels) + spike_warnings(raw, 1 / dt, labels, spikes=spikes):
         warnings.warn(message, ModalWarning, stacklevel=2)
     y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     n_channels = y.shape[1]
