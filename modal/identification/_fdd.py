@@ -258,10 +258,28 @@ def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1, lim
     damping : float
         Damping ratio; NaN then too.
     """
-    from scipy.signal import find_peaks
+    k = positive_int("sv_number", sv_number) - 1
+    return _efdd(spectrum, peak_bin, k, limits, _window_correlation(spectrum.nperseg))
+
+
+def _window_correlation(n: int) -> np.ndarray:
+    """The autocorrelation of the periodic Hann window of ``n`` samples (the
+    window of :func:`modal.signals.spectral_density`) at lags ``0 ... n - 1``,
+    1 at lag 0: what the window's own decay adds to a correlation function
+    taken back from Welch spectra (:func:`efdd` divides it out)."""
     from scipy.signal.windows import hann
 
-    k = positive_int("sv_number", sv_number) - 1
+    window = hann(n, sym=False)
+    return np.correlate(window, window, "full")[n - 1:] / window.dot(window)
+
+
+def _efdd(spectrum, peak_bin, k, limits, window_correlation):
+    """:func:`efdd` of singular value ``k + 1`` (0-based ``k``), with the
+    window's autocorrelation (``_window_correlation``) computed once by the
+    caller (:func:`spectral_support` checks several modes on one
+    spectrum)."""
+    from scipy.signal import find_peaks
+
     reference = spectrum.vectors[peak_bin, :, k]
     macs = np.abs(np.einsum("fck,c->fk", spectrum.vectors.conj(), reference)) ** 2  # unit vectors
     best = np.argmax(macs, axis=1)
@@ -277,8 +295,6 @@ def efdd(spectrum: SingularValueSpectrum, peak_bin: int, sv_number: int = 1, lim
     band = np.arange(low, high + 1)
     bell[band] = value[band]
     n = spectrum.nperseg
-    window = hann(n, sym=False)
-    window_correlation = np.correlate(window, window, "full")[n - 1:] / window.dot(window)
     half = n // 2
     r = np.fft.irfft(bell, n=n)[:half] / window_correlation[:half]
     if not r[0] > 0:
@@ -363,6 +379,7 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
     damping = np.full(freq_hz.size, np.nan) if damping is None else np.asarray(damping, dtype=float)
     tolerance = support_tolerance_hz(freq_hz, damping, spectrum.df)
     bins = spectrum.peaks(prominence_db)["bin"].to_numpy()  # the neighbours that bound an EFDD bell
+    window = _window_correlation(spectrum.nperseg) if freq_hz.size else None  # once for every mode's EFDD
     rows = []
     for m, f in enumerate(freq_hz):
         peak = spectrum.supporting_peak(f, tolerance[m], prominence_db)
@@ -375,7 +392,7 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         below, above = bins[bins < here], bins[bins > here]
         limits = ((here + below.max()) // 2 + 1 if below.size else 1,
                   (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
-        efdd_freq_hz, efdd_damping = efdd(spectrum, here, sv_number, limits)
+        efdd_freq_hz, efdd_damping = _efdd(spectrum, here, sv_number - 1, limits, window)
         rows.append({"sv_peak_hz": spectrum.refined_hz(here, sv_number), "sv_number": sv_number,
                      "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True,
                      "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})

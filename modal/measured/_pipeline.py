@@ -80,7 +80,9 @@ def no_vibration(raw, detrended) -> np.ndarray:
     """Indices of the channels of ``raw`` (n_samples, n_channels) whose
     ``detrended`` content is at round-off level (:data:`NO_VIBRATION_RTOL`):
     constants, exact drifts (linear ramps), dead sensors."""
-    peak = np.maximum(np.max(raw, axis=0), -np.min(raw, axis=0))  # no temporary of the record's size
+    # channel by channel: no temporary of the record's size, and a reduction along one column is some ten
+    # times faster than numpy's along axis 0 of a C-ordered record with a few channels (the same values)
+    peak = np.array([max(raw[:, c].max(), -raw[:, c].min()) for c in range(raw.shape[1])], dtype=float)
     rms = np.sqrt(np.einsum("ij,ij->j", detrended, detrended) / len(detrended))
     return np.flatnonzero(rms <= NO_VIBRATION_RTOL * peak)
 

@@ -245,3 +245,30 @@ def test_of_several_supporting_maxima_the_nearest_counts():
     assert sv_number == 1 and spectrum.freq_hz[index] == pytest.approx(1.139, abs=2 * spectrum.df)
     index, sv_number, _ = spectrum.supporting_peak(1.10, 0.11)
     assert sv_number == 2 and spectrum.freq_hz[index] == pytest.approx(1.097, abs=2 * spectrum.df)
+
+
+
+def test_spectral_supports_efdd_is_efdd_of_the_supporting_peak():
+    """spectral_support computes the Hann window's autocorrelation once for
+    all its modes: each mode's EFDD columns are exactly those of
+    :func:`modal.efdd` at its supporting peak, its bell bounded half-way to
+    the neighbouring peaks."""
+    from modal.identification._fdd import support_tolerance_hz
+
+    omega2, phi = scipy.linalg.eigh(STIFFNESS, MASS)
+    omega = np.sqrt(omega2)
+    alpha, beta = np.linalg.solve([[1 / (2 * omega[0]), omega[0] / 2], [1 / (2 * omega[1]), omega[1] / 2]],
+                                  [0.01, 0.01])
+    acc, _, _ = two_dof(MASS, alpha * MASS + beta * STIFFNESS, STIFFNESS, 2**15, 0.05, seed=2)
+    spectrum = modal.fdd(acc, 0.05, nperseg=2048)
+    freq_hz = omega / (2 * np.pi)
+    support = modal.spectral_support(spectrum, freq_hz, phi, damping=[0.01, 0.01])
+    assert support["spectral_support"].all() and support["efdd_freq_hz"].notna().all()
+    bins = spectrum.peaks()["bin"].to_numpy()
+    for k, tolerance in enumerate(support_tolerance_hz(freq_hz, [0.01, 0.01], spectrum.df)):
+        here, sv_number, _ = spectrum.supporting_peak(freq_hz[k], tolerance)
+        below, above = bins[bins < here], bins[bins > here]
+        limits = ((here + below.max()) // 2 + 1 if below.size else 1,
+                  (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
+        assert (support["efdd_freq_hz"][k], support["efdd_damping"][k]) == modal.efdd(spectrum, here, sv_number,
+                                                                                      limits)

@@ -175,3 +175,17 @@ def test_spectral_witness_compares_shapes_in_each_channels_quantity():
     upper = modes.iloc[int(np.argmin(np.abs(modes["freq_hz"] - 1.3455)))]
     assert upper["freq_hz"] == pytest.approx(1.3455, rel=0.01)
     assert upper["spectral_support"] and upper["sv_mac"] > 0.999
+
+
+def test_no_vibration_judges_each_channel_against_its_largest_magnitude():
+    """A channel's content after detrending is judged against its largest
+    magnitude, negative values included: a vibration of 1e-12 on an offset
+    of -1 is round-off (below 1e-10 of 1); the same on +1, and a constant
+    and a ramp, too; a vibration of 1e-9 on -1 is not, nor white noise."""
+    from modal.measured import no_vibration
+
+    t = np.arange(2000)
+    wave = np.sin(0.3 * t)
+    raw = np.column_stack([-1 + 1e-12 * wave, 1 + 1e-12 * wave, np.full(len(t), -5.0), 3e-3 * t - 2,
+                           -1 + 1e-9 * wave, np.random.default_rng(0).standard_normal(len(t))])
+    assert no_vibration(raw, modal.detrend(raw)).tolist() == [0, 1, 2, 3]
