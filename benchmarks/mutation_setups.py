@@ -47,7 +47,7 @@ SYNTHETIC = [CHECKS + t for t in (
     "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes",
     "test_the_merged_tables_hold_the_setups_statistics_and_directions")] + [
     SETUPS + "test_node_shapes_resolve_oblique_directions", SETUPS + "test_two_close_modes_of_one_setup_stay_two",
-    "tests/engine/setups/test_merge_bounds.py"]
+    "tests/engine/setups/test_merge_bounds.py", "tests/engine/setups/test_merge_tables.py"]
 
 #: Reading channel tables, pyOMA's and pyOMA2's files and geometries.
 READING = [SETUPS + t for t in (
@@ -67,6 +67,9 @@ IDENTIFYING = [
     SETUPS + "test_roving_report_settings_and_drawing_progress",
     CHECKS + "test_a_setup_with_a_unit_slip_is_named_by_the_command"]
 
+#: The merge's log (log_merge), on synthetic identifications.
+LOG = "tests/engine/setups/test_merge_bounds.py::test_the_log_names_each_setup_left_out_and_each_node_flagged"
+
 machinery.TARGETS = [(f"modal/setups/{name}", None)
                      for name in ("_agreement.py", "_merge.py", "_channels.py", "_geometry.py", "_results.py")]
 #: The tests of reading a setup (read_setup, check_setups).
@@ -79,7 +82,7 @@ machinery.TESTS = {  # each module's: what reaches it, not more (a survivor runs
     "_channels.py": READING + SYNTHETIC + IDENTIFYING[:1],
     "_geometry.py": READING + [CHECKS + "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes"]
     + IDENTIFYING[2:4],
-    "_results.py": IDENTIFYING[2:],
+    "_results.py": [LOG] + IDENTIFYING[2:],
 }
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_setups_equivalent.txt"
 
