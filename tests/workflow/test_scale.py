@@ -152,7 +152,7 @@ def test_chunked_run_as_separate_processes_equals_the_local_run(small_workflow, 
     profile.mkdir()
     (profile / "config.yaml").write_text(yaml.safe_dump({
         "executor": "cluster-generic", "cluster-generic-submit-cmd": "bash local_submit.sh", "jobs": 2,
-        "latency-wait": 5}))
+        "latency-wait": 5, "seconds-between-status-checks": 1}))  # the jobs take seconds: look every second
     run_snakemake(work, *TARGETS, "--workflow-profile", "profile", "--configfile", SMALL_CONFIG_FILE, "chunks.yaml")
     assert sorted(p.name for p in (work / "results/identified/chunks").glob("demo_lower_*.csv")) == [
         "demo_lower_0.csv", "demo_lower_1.csv"]

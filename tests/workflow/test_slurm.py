@@ -4,6 +4,7 @@ tests/cluster/start_slurm.sh starts on this machine (installing Debian's
 slurm-wlm and munge when missing, as root). Skipped, saying why, only where
 Slurm cannot be installed (not root, no apt-get, no package source)."""
 
+import os
 import re
 import subprocess
 import sys
@@ -19,15 +20,26 @@ pytestmark = pytest.mark.slow
 
 #: What start_slurm.sh says when Slurm cannot be installed here.
 CANNOT_INSTALL = ("not root", "no apt-get", "apt-get install")
-#: No accounting storage on the test cluster: no account, job states from squeue.
+#: No accounting storage on the test cluster: no account, job states from squeue
+#: (asked every 2 s, not Snakemake's 10: the jobs take seconds).
 SLURM_OPTIONS = {"executor": "slurm", "slurm-no-account": True, "slurm-status-command": "squeue", "jobs": 4,
-                 "latency-wait": 10, "slurm-init-seconds-before-status-checks": 2}
+                 "latency-wait": 10, "slurm-init-seconds-before-status-checks": 2, "seconds-between-status-checks": 2}
 TARGETS = [f"results/identified/{s}_{i}.csv" for s in ("demo", "cera") for i in ("named", "lower")] + [
     "results/tables/table_03.csv"]
 
 
 @pytest.fixture(scope="module")
 def slurm():
+    """The test cluster, up; Slurm's client configuration is its own again
+    (tests/conftest.py points it at an empty file for local runs)."""
+    with pytest.MonkeyPatch.context() as patch:
+        if os.environ.get("SLURM_CONF") == os.devnull:
+            patch.delenv("SLURM_CONF")
+        _start_cluster()
+        yield
+
+
+def _start_cluster():
     run = subprocess.run(["bash", str(ROOT / "tests/cluster/start_slurm.sh")], capture_output=True, text=True,
                          timeout=600)
     reason = (run.stdout + run.stderr).strip()

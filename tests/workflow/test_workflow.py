@@ -17,7 +17,7 @@ import modal
 import modal.campaign
 import modal.thesis.config
 
-from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake
+from workflow_run import DELETE, ROOT, SMALL_CONFIG_FILE, run_snakemake as snakemake, set_key
 
 SMALL = yaml.safe_load((ROOT / SMALL_CONFIG_FILE).read_text())
 
@@ -41,19 +41,6 @@ def test_config_is_valid():
     modal.thesis.config.check(config)
 
 
-def _set(config, path, value):
-    node = config
-    keys = path.split(".")
-    for key in keys[:-1]:
-        node = node[key] if key in node else node[int(key)]
-    if value is DELETE:
-        del node[keys[-1]]
-    else:
-        node[keys[-1]] = value
-    return config
-
-
-DELETE = object()
 # (dotted key, new value, text the error must contain)
 BAD_SCHEMA = [
     ("studies.demo.cases.c3.noise", -0.05, "noise"),
@@ -100,14 +87,14 @@ BAD_GRID = [
 
 @pytest.mark.parametrize("path, value, message", BAD_SCHEMA)
 def test_schema_rejects(path, value, message):
-    config = _set(copy.deepcopy(base_config()), path, value)
+    config = set_key(copy.deepcopy(base_config()), path, value)
     with pytest.raises(Exception, match=message):
         validate(config, SCHEMA)
 
 
 @pytest.mark.parametrize("path, value, message", BAD_CHECK + BAD_GRID)
 def test_semantic_check_rejects(path, value, message):
-    config = _set(copy.deepcopy(base_config()), path, value)
+    config = set_key(copy.deepcopy(base_config()), path, value)
     validate(config, SCHEMA)
     with pytest.raises(ValueError, match=re.escape(message)):
         modal.thesis.config.check(config)
@@ -222,7 +209,7 @@ def test_campaign_workflow_lint_clean_apart_from_conda(tmp_path):
 @pytest.mark.parametrize("path, value", [("grid.source", "simulated"), ("grid.test.noise", -0.1),
                                          ("grid.cases.lp10", -5.0), ("grid.runs.tcm.method", "ssi")])
 def test_grid_schema_rejects(path, value):
-    config = _set(copy.deepcopy(base_config()), path, value)
+    config = set_key(copy.deepcopy(base_config()), path, value)
     with pytest.raises(Exception, match=path.split(".")[-1]):
         validate(config, SCHEMA)
 

@@ -64,8 +64,16 @@ def run_snakemake(workdir, *args, check=True, timeout=900):
     return proc
 
 
+class _Delete:
+    """:data:`DELETE`'s type: a sentinel whose repr is the same in every
+    process (test ids must agree between pytest-xdist's workers)."""
+
+    def __repr__(self):
+        return "DELETE"
+
+
 #: :func:`set_key`'s value that deletes the key.
-DELETE = object()
+DELETE = _Delete()
 
 
 def base_config():
