@@ -163,8 +163,12 @@ def _spike_runs(y, threshold=None) -> list[tuple[int, int, float]]:
     variation = _variation(d[1:-1])
     if not variation > 0:
         return runs
+    # A spike's left neighbour has |d| >= SPIKE_EDGE x its departure > SPIKE_EDGE x threshold x variation: the
+    # runs to look at start just after such samples (half that bound, against round-off), rare in any record.
+    after_big = np.flatnonzero(np.abs(d) > 0.5 * SPIKE_EDGE * threshold * variation) + 1
     for width in range(1, SPIKE_MAX_WIDTH + 1):
-        first = np.arange(2, n - width - 1)  # the neighbours first - 1 and first + width have two neighbours each
+        # the neighbours first - 1 and first + width have two neighbours each
+        first = after_big[(after_big >= 2) & (after_big <= n - width - 2)]
         left, right = y[first - 1], y[first + width]
         departure = np.stack([y[first + j] - (left + (right - left) * (j + 1) / (width + 1)) for j in range(width)])
         up, down = np.all(departure > 0, axis=0), np.all(departure < 0, axis=0)
