@@ -57,7 +57,8 @@ READING = [SETUPS + t for t in (
     "test_unit_spellings_are_one_unit", "test_a_unit_of_another_quantity_is_refused",
     "test_pyoma_setup_in_latin1_reads_as_in_utf8", "test_channel_table_with_xyz_and_angles_that_disagree_is_refused",
     "test_geometry_files_name_the_bad_row", "test_a_setup_given_twice_through_a_link_is_refused")] + [
-    "tests/workflow/test_config_refusals.py::test_roving_test_refusals", "tests/engine/setups/test_setup_reading.py"]
+    "tests/workflow/test_config_refusals.py::test_roving_test_refusals", "tests/engine/setups/test_setup_reading.py",
+    "tests/engine/setups/test_channel_tables.py", "tests/engine/setups/test_geometry_defaults.py"]
 
 #: Identifications (seconds each) and whole commands, last.
 IDENTIFYING = [

@@ -178,7 +178,9 @@ def read_channel_table(path, n_channels=None, nodes=None) -> pd.DataFrame:
         raise ValueError(f"{path}: the channel table is empty; expected a header {','.join(COLUMNS)} and one row "
                          "per channel")
     try:
-        table = pd.read_csv(io.StringIO(text), dtype={"node": str, "name": str, "unit": str}, skipinitialspace=True)
+        # every cell as text (numbers are converted below): the header may spell "Node" or " node ", and a
+        # node, name or unit such as "01" must stay as written
+        table = pd.read_csv(io.StringIO(text), dtype=str, skipinitialspace=True)
     except pd.errors.ParserError as exc:
         raise ValueError(f"{path}: cannot read the channel table: {exc}") from None
     table.columns = [str(c).strip().lower() for c in table.columns]
