@@ -1,9 +1,13 @@
 """Every rule declares every file it reads.
 
-Every job the small config plans runs in a folder holding only copies of its
-declared inputs: Snakemake's ``shadow: "copy-minimal"``, set on every rule by
-a wrapper Snakefile, so the job list is Snakemake's own and a rule added
-later is audited without touching this file. What is not in that folder:
+Jobs of the small config run again, each in a folder holding only copies of
+its declared inputs: Snakemake's ``shadow: "copy-minimal"``, set on every
+rule by a wrapper Snakefile, so the job list is Snakemake's own and a rule
+added later is audited without touching this file. Audited: one job of each
+rule for every value each of its wildcards takes (every study, every
+interpretation, every search, every notebook; a rule without wildcards
+once), forced in a copy of the small config's finished run, so each reads
+the inputs the full run made. What is not in that folder:
 
 - data: anything a job opens by a path relative to the project (results/,
   config/thesis_tables.csv, records, notebooks, templates, captions) must be
@@ -24,12 +28,13 @@ job's folder, so one mechanism covers them all.
 
 import json
 import re
+import shutil
 import subprocess
 import sys
 
 import numpy as np
 import pytest
-from workflow_run import SMALL_CONFIG_FILE, copy_project, run_snakemake
+from workflow_run import SMALL_CONFIG_FILE, run_snakemake
 
 #: The wrapper: the project's Snakefile with every rule shadowed.
 SHADOWED_SNAKEFILE = """\
@@ -81,21 +86,40 @@ def failures(log: str, workdir) -> list[str]:
     return [f"rule {rule} (output {output}): {why}" for (rule, output), why in sorted(found.items())]
 
 
+def audited_targets(log: str) -> list[str]:
+    """The targets that make Snakemake run, of the jobs a ``--forceall``
+    dry run's ``log`` plans, one job of each rule for every value each of its
+    wildcards takes: the first job (in the log's order) that brings a value
+    not yet seen, by its first output (a rule without outputs by its name)."""
+    seen, targets = set(), []
+    for rule, body in JOB.findall(log):
+        fields = _fields(body)
+        values = {(rule, value) for value in fields.get("wildcards", "").split(", ")}
+        if not values <= seen:
+            seen |= values
+            outputs = [o for o in fields.get("output", "").split(", ") if o]
+            targets += outputs[:1] or [rule]
+    return targets
+
+
 @pytest.fixture(scope="module")
-def shadowed_run(tmp_path_factory):
-    """The small config run from scratch, every job in a folder of its own
-    (outside the project, so no path climbs back into it)."""
-    work = copy_project(tmp_path_factory.mktemp("shadowed"))
+def shadowed_run(tmp_path_factory, small_workflow):
+    """The audited jobs (:func:`audited_targets`) forced, each in a folder of
+    its own, in a copy of the small config's finished run (outside the
+    project, so no path climbs back into it): their inputs are the full
+    run's, and nothing else runs."""
+    work = tmp_path_factory.mktemp("shadowed") / "project"
+    shutil.copytree(small_workflow, work, symlinks=True)  # time stamps and Snakemake's records too
     (work / "shadowed.smk").write_text(SHADOWED_SNAKEFILE)
     shadows = tmp_path_factory.mktemp("shadows")
+    args = ["--snakefile", "shadowed.smk", "--configfile", SMALL_CONFIG_FILE]
+    targets = audited_targets(run_snakemake(work, TARGET, "--forceall", "-n", *args).stdout)
     # Snakemake runs each shadowed job in a snakemake process of its own (it
-    # changes the working folder), which parses the workflow again: about 6 s
-    # CPU per job, twice the small run's CPU time in all (17 min on 2 cores at
-    # load 8-10; hence the longer timeout). Not --force-use-threads: the
-    # scheduler then resolves paths while a job's thread has moved the process
-    # into the job's folder.
-    proc = run_snakemake(work, TARGET, "--snakefile", "shadowed.smk", "--configfile", SMALL_CONFIG_FILE,
-                         "--shadow-prefix", str(shadows), "--keep-going", check=False, timeout=2400)
+    # changes the working folder), which parses the workflow again (about 2 s
+    # CPU per job). Not --force-use-threads: the scheduler then resolves paths
+    # while a job's thread has moved the process into the job's folder.
+    proc = run_snakemake(work, *targets, "--force", *args, "--shadow-prefix", str(shadows), "--keep-going",
+                         check=False, timeout=2400)
     assert (shadows / "shadow").is_dir(), "no job ran in a shadow folder: the wrapper did not take effect"
     return work, proc.stdout + proc.stderr, proc.returncode
 
@@ -144,8 +168,8 @@ def comparable(path):
 def test_jobs_with_only_their_declared_inputs_write_what_the_full_project_writes(shadowed_run, small_workflow):
     """A job that reads an undeclared file only if it exists (a notebook
     showing "has not been produced") succeeds in its folder but writes
-    something else: every output equals the full project's run. Two
-    independent runs of one config, so also: a rerun gives the same tables
+    something else: every output equals the full project's run. Each job
+    runs twice on the same inputs, so also: a rerun gives the same files
     byte for byte."""
     work, log, _ = shadowed_run
     jobs = planned_jobs(log)
