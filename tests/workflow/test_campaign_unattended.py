@@ -158,7 +158,8 @@ def test_the_same_command_resumes_after_kill_9_with_a_clean_runs_results(tmp_pat
     simulate_campaign(folder, n_records=12, every_hours=12, duration=300.0)
     (folder / "campaign.yaml").write_text((folder / "campaign.yaml").read_text().replace("chunk: 25", "chunk: 3"))
     killed, clean = tmp_path / "killed", tmp_path / "clean"
-    command = [sys.executable, "-m", "modal", "campaign", str(folder / "campaign.yaml"), "--out", str(killed)]
+    command = [sys.executable, "-m", "modal", "campaign", str(folder / "campaign.yaml"), "--out", str(killed),
+               "--cores", "2"]
     run = subprocess.Popen(command, start_new_session=True, stderr=subprocess.DEVNULL, stdout=subprocess.DEVNULL)
     deadline = time.monotonic() + 120
     while not list((killed / "chunks").glob("*/modes.csv")) and time.monotonic() < deadline:
@@ -168,7 +169,7 @@ def test_the_same_command_resumes_after_kill_9_with_a_clean_runs_results(tmp_pat
     assert list((killed / ".snakemake" / "locks").glob("*.lock")), "the kill left no lock: nothing was tested"
     assert not (killed / "tracked.csv").exists()
     assert cli(command[3:]) == 0  # the same command
-    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(clean)]) == 0
+    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(clean), "--cores", "2"]) == 0
     for name in ("tracked.csv", "modes.csv", "failed.csv", "references.csv"):
         assert (killed / name).read_bytes() == (clean / name).read_bytes(), name
 
@@ -193,12 +194,13 @@ def test_an_edit_of_the_engine_reruns_the_identification_and_of_the_report_only_
     campaign()
     assert "Nothing to be done" in campaign("--dry-run")
     pipeline = package / "modal" / "measured" / "_pipeline.py"
-    stamp = pipeline.stat()
-    pipeline.write_text(pipeline.read_text() + "\n# an edit\n")
+    stamp, original = pipeline.stat(), pipeline.read_text()
+    pipeline.write_text(original + "\n# an edit\n")
     os.utime(pipeline, ns=(stamp.st_atime_ns, stamp.st_mtime_ns))  # an older time stamp: content decides
     plan = campaign("--dry-run")
     assert "identify_chunk" in plan and "track" in plan
-    campaign()
+    pipeline.write_text(original)  # the edit undone, with a newer time stamp: nothing to rerun
+    assert "Nothing to be done" in campaign("--dry-run")
     report = package / "modal" / "campaign" / "_report.py"
     report.write_text(report.read_text() + "\n# an edit\n")
     plan = campaign("--dry-run")

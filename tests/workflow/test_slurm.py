@@ -82,12 +82,14 @@ def test_campaign_runs_on_slurm_with_the_shipped_profile(slurm, tmp_path):
     simulate_campaign(tmp_path / "c", n_records=8, every_hours=12, duration=120.0)
     config = tmp_path / "c" / "campaign.yaml"
     config.write_text(config.read_text().replace("chunk: 25", "chunk: 4"))
-    on_slurm = subprocess.run([sys.executable, "-m", "modal", "campaign", str(config), "--out", "s",
-                               "--profile", "slurm"], cwd=tmp_path, capture_output=True, text=True, timeout=900)
-    assert on_slurm.returncode == 0, on_slurm.stderr[-3000:]
-    assert len(_slurm_jobs(tmp_path / "s")) >= 2  # the two chunks
-    local = subprocess.run([sys.executable, "-m", "modal", "campaign", str(config), "--out", str(tmp_path / "l"),
-                            "--cores", "2"], capture_output=True, text=True, timeout=900)
+    on_slurm = subprocess.Popen([sys.executable, "-m", "modal", "campaign", str(config), "--out", "s",
+                                 "--profile", "slurm"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    # The local run while the Slurm run waits for its first status check (20 s).
+    local = subprocess.run([sys.executable, "-m", "modal", "campaign", str(config), "--out", str(tmp_path / "l")],
+                           capture_output=True, text=True, timeout=900)
     assert local.returncode == 0, local.stderr[-3000:]
+    _, stderr = on_slurm.communicate(timeout=900)
+    assert on_slurm.returncode == 0, stderr[-3000:]
+    assert len(_slurm_jobs(tmp_path / "s")) >= 2  # the two chunks
     pd.testing.assert_frame_equal(pd.read_csv(tmp_path / "s" / "tracked.csv"),
                                   pd.read_csv(tmp_path / "l" / "tracked.csv"))
