@@ -56,20 +56,32 @@ def clipped_samples(acc) -> list[np.ndarray]:
     list of ndarray
         One sorted array of sample indices per channel (empty: not clipped).
     """
-    acc = np.asarray(acc, dtype=float)
+    return _per_channel(acc, _clipped_ends)
+
+
+def _per_channel(acc, find) -> list[np.ndarray]:
+    """Per channel ``y`` of ``acc``, the sorted samples of the index arrays
+    ``find(y)`` returns (an empty array where it returns none)."""
     found = []
-    for y in acc.T:
-        clipped = []
-        for extreme, inward in ((np.max(y), y < np.max(y)), (np.min(y), y > np.min(y))):
-            at = np.flatnonzero(y == extreme)
-            if at.size < CLIP_MIN_SAMPLES or not inward.any():
-                continue
-            inner = y[inward]
-            next_value = np.max(inner) if extreme == np.max(y) else np.min(inner)
-            if at.size >= CLIP_PILE_UP * np.count_nonzero(y == next_value):
-                clipped.append(at)
-        found.append(np.unique(np.concatenate(clipped)) if clipped else np.empty(0, dtype=int))
+    for y in np.asarray(acc, dtype=float).T:
+        parts = find(y)
+        found.append(np.unique(np.concatenate(parts)) if parts else np.empty(0, dtype=int))
     return found
+
+
+def _clipped_ends(y) -> list[np.ndarray]:
+    """The samples of each end of ``y`` (its largest, its smallest value)
+    that is a pile-up by the rule of :func:`clipped_samples`."""
+    clipped = []
+    for extreme, inward in ((np.max(y), y < np.max(y)), (np.min(y), y > np.min(y))):
+        at = np.flatnonzero(y == extreme)
+        if at.size < CLIP_MIN_SAMPLES or not inward.any():
+            continue
+        inner = y[inward]
+        next_value = np.max(inner) if extreme == np.max(y) else np.min(inner)
+        if at.size >= CLIP_PILE_UP * np.count_nonzero(y == next_value):
+            clipped.append(at)
+    return clipped
 
 
 def clipping_warnings(acc, fs: float, labels=None) -> list[str]:
@@ -214,13 +226,7 @@ def spike_samples(acc) -> list[np.ndarray]:
     list of ndarray
         One sorted array of sample indices per channel (empty: no spike).
     """
-    acc = np.asarray(acc, dtype=float)
-    found = []
-    for y in acc.T:
-        runs = _spike_runs(y)
-        found.append(np.unique(np.concatenate([np.arange(a, b + 1) for a, b, _ in runs])) if runs
-                     else np.empty(0, dtype=int))
-    return found
+    return _per_channel(acc, lambda y: [np.arange(first, last + 1) for first, last, _ in _spike_runs(y)])
 
 
 def _groups(at) -> list[np.ndarray]:
