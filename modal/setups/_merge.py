@@ -30,6 +30,11 @@ SPAN_TOL = 1e-6
 #: coarse grid's legitimate step towards an unmeasured antinode reaches
 #: sin 60° / sin 30° = 1.73; the Weimar frame's node 24 reads 1.99-2.01.
 NODE_FACTOR = 1.8
+#: Without a geometry a node is compared with every other node that moves,
+#: and only when there are at least this many: one node above one or two
+#: others (a single setup's two nodes, one near a modal node) is how a mode
+#: can look, no evidence of a bad channel.
+NODE_PEERS = 3
 
 
 @dataclass(frozen=True)
@@ -295,8 +300,9 @@ def normalise(per_node: dict, neighbours=None) -> tuple[complex, dict]:
     The rule: the nodes are taken from the largest motion (modulus over
     their components) down; a node that moves more than NODE_FACTOR times
     as much as every node linked to it (``neighbours``: node -> nodes, from
-    the geometry's lines and links; without them, every other node) is
-    flagged, down to the first node that is not; the shape is divided by
+    the geometry's lines and links; without them, every other node, if
+    there are at least NODE_PEERS) is flagged, down to the first node that
+    is not; the shape is divided by
     the largest component of the nodes not flagged, which becomes 1 (real). One node that
     disagrees with its neighbours (a miscalibrated or mislabelled channel)
     then does not set the scale of all the others, and says so.
@@ -307,6 +313,7 @@ def normalise(per_node: dict, neighbours=None) -> tuple[complex, dict]:
     for node in sorted(moduli, key=moduli.get, reverse=True):
         if neighbours is None:
             near = [m for other, m in moduli.items() if other != node]
+            near = near if len(near) >= NODE_PEERS else []
         else:
             near = [moduli[other] for other in neighbours.get(node, ()) if other in moduli]
         if near and moduli[node] > NODE_FACTOR * max(near):

@@ -256,6 +256,23 @@ def test_normalisation_is_not_set_by_a_node_that_disagrees_with_its_neighbours()
     assert pivot == -1.4 and flags == {}
 
 
+def test_without_a_geometry_a_node_is_judged_against_three_others_at_least():
+    """A single setup's two nodes, one moving 60 x the other (near a modal
+    node, as the Weimar frame's node 7 in its torsion mode): no evidence of
+    a bad channel, so the larger sets the scale; so with two others. With
+    three others (the least, NODE_PEERS) the node far above them is flagged."""
+    per_node = {"24": np.array([-4.7 + 0.2j, -82.6 + 0.2j, np.nan]), "7": np.array([0.95 + 0j, 1.0 + 0j, 0.03j])}
+    pivot, flags = normalise(per_node)
+    assert pivot == -82.6 + 0.2j and flags == {}
+    per_node["9"] = np.array([0.5 + 0j, 0.2 + 0j, np.nan])
+    assert normalise(per_node) == (-82.6 + 0.2j, {})
+    per_node["11"] = np.array([np.nan, np.nan, np.nan])  # no motion: not a peer
+    assert normalise(per_node) == (-82.6 + 0.2j, {})
+    per_node["11"] = np.array([0.1 + 0j, np.nan, np.nan])
+    pivot, flags = normalise(per_node)
+    assert pivot == 1.0 and list(flags) == ["24"] and "moves 60 x" in flags["24"]
+
+
 def test_declared_velocity_and_displacement_channels_reach_the_identification():
     """One node measured in acceleration, velocity (mm/s) and displacement:
     a setup is identified with each channel's quantity, so the three give
