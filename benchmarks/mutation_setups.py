@@ -81,9 +81,9 @@ machinery.TESTS = {  # each module's: what reaches it, not more (a survivor runs
     "_agreement.py": SYNTHETIC + IDENTIFYING[-1:],
     "_merge.py": SYNTHETIC + SETUP_FILES + IDENTIFYING,
     "_channels.py": READING + SYNTHETIC + IDENTIFYING[:1],
-    "_geometry.py": READING + [CHECKS + "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes"]
-    + IDENTIFYING[2:4],
-    "_results.py": [LOG] + IDENTIFYING[2:],
+    "_geometry.py": ["tests/engine/setups/test_geometry_readers.py"] + READING
+    + [CHECKS + "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes"] + IDENTIFYING[2:4],
+    "_results.py": [LOG, "tests/engine/setups/test_roving_results.py"] + IDENTIFYING[2:],
 }
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_setups_equivalent.txt"
 
