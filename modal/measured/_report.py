@@ -231,7 +231,7 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
     per_setup = [{"heading": f"setup {s.name}: {len(r.modes)} modes",
                   "data": _image(folder / "setups" / s.name / "stabilisation.png")}
                  for s, r in zip(setups, results) if (folder / "setups" / s.name / "stabilisation.png").is_file()]
-    summary = (f"{len(setups)} setups merged into {len(modes)} modes "
+    summary = (f"{len(setups)} setup{'s' if len(setups) != 1 else ''} merged into {len(modes)} modes "
                f"({modes['n_setups'].sum() if len(modes) else 0} setup-modes), shapes at "
                f"{merged.shapes['node'].nunique()} nodes.")
     page = _template().render(

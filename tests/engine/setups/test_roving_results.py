@@ -122,7 +122,8 @@ def test_each_setup_report_has_its_own_steps_and_warnings(written):
     clipped = "channel 0"
     assert "clipped" in one and clipped in one
     assert "clipped" not in two  # setup_1's warning is not repeated in setup_2's report
-    assert "clipped" in (out / "report.html").read_text()
+    page = (out / "report.html").read_text()
+    assert "clipped" in page and "2 setups merged into" in page
 
 
 def test_the_log_says_each_setup_its_steps_and_modes(written):
@@ -172,6 +173,7 @@ def test_two_channels_of_one_name_give_numbered_columns(written, tmp_path):
                  max_order=20)
     modes = pd.read_csv(tmp_path / "out" / "setups" / first.name / "modes.csv")
     assert [c for c in modes.columns if c.startswith("phi_")] == [f"phi_{c}" for c in channels["channel"]]
+    assert "1 setup merged into" in (tmp_path / "out" / "report.html").read_text()
 
 
 def png_size(path) -> tuple[int, int]:
