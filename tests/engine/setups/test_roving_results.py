@@ -5,9 +5,11 @@ warnings, the log, and the options passed on to each step (an option lost on
 its way is a wrong answer that looks right)."""
 
 import dataclasses
+import inspect
 import json
 import re
 from importlib.metadata import version
+from types import SimpleNamespace
 
 import numpy as np
 import pandas as pd
@@ -48,8 +50,9 @@ class Spy:
 @pytest.fixture(scope="module")
 def written(tmp_path_factory):
     """Two 60-s setups of the plate, saved and read back; setup_1's first
-    channel clipped (a warning of setup_1 only); merged with MERGE and the
-    geometry, every step spied on."""
+    channel clipped (a warning of setup_1 only), one of setup_2's roving
+    channels slightly tilted; merged with MERGE and the geometry, every step
+    spied on."""
     root = tmp_path_factory.mktemp("roving")
     setups, geometry, _ = plate_roving_test(PLATE, duration=60.0)
     setups = setups[:2]
@@ -57,6 +60,9 @@ def written(tmp_path_factory):
     top = 0.6 * np.max(acc[:, 0])
     acc[:, 0] = np.minimum(acc[:, 0], top)  # a pile-up at its largest value: clipped
     setups[0] = dataclasses.replace(setups[0], record=dataclasses.replace(setups[0].record, acc=acc))
+    tilted = setups[1].channels.copy()
+    tilted.loc[2, "y"] = 1e-4  # a roving channel 0.1 mrad off the vertical: read back, a unit vector of 16 digits
+    setups[1] = dataclasses.replace(setups[1], channels=tilted)
     for s in setups:
         save_setup(s, root / s.name)
     read = [read_setup(root / s.name, geometry=geometry) for s in setups]
@@ -93,6 +99,7 @@ def test_the_merged_tables_are_the_merges_at_six_digits(written):
     setups = written["setups"]
     assert list(channels.columns) == ["setup", *setups[0].channels.columns]
     assert list(channels["setup"]) == [s.name for s in setups for _ in range(len(s.channels))]
+    assert setups[1].channels.loc[2, "z"] != 1.0  # the tilt: digits beyond six to round
     assert significant_digits((out / "channels.csv").read_text()) <= 6
 
 
@@ -124,6 +131,9 @@ def test_each_setup_report_has_its_own_steps_and_warnings(written):
     assert "clipped" not in two  # setup_1's warning is not repeated in setup_2's report
     page = (out / "report.html").read_text()
     assert "clipped" in page and "2 setups merged into" in page
+    # the top report's "What was done": the log's lines, each setup's first
+    assert f"setup {first.name}: {first.record.acc.shape[0]} samples" in page
+    assert f"setup {second.name}: {second.record.acc.shape[0]} samples" in page
 
 
 def test_the_log_says_each_setup_its_steps_and_modes(written):
@@ -221,9 +231,38 @@ def test_the_top_settings_say_the_options_the_merge_and_the_inputs(written):
     assert settings["version"] == settings["provenance"]["version"] == version("modal-identification")
     assert settings["provenance"]["command"] == COMMAND
     assert len(settings["provenance"]["inputs"]) == 4  # two records, two channel tables
+    assert list(settings) == ["options", "merge", "geometry", "version", "provenance"]
+    text = (out / "settings.json").read_text()
+    assert text == json.dumps(settings, indent=2) + "\n"  # for a reader: two spaces a level
+
+
+def test_the_inputs_a_setup_was_read_from(tmp_path):
+    """A record read from a file: it, and the channel table and pyOMA's two
+    files beside it where they exist; an array in memory: none. The geometry's
+    folder only where it exists."""
+    record = tmp_path / "record.npy"
+    for name in ("record.npy", "channel_dofs.txt", "setup_info.txt"):
+        (tmp_path / name).write_text("")
+    setup = SimpleNamespace(record=SimpleNamespace(path=record), path=tmp_path)
+    assert results_module._setup_inputs(setup) == [record, tmp_path / "channel_dofs.txt", tmp_path / "setup_info.txt"]
+    (tmp_path / "channels.csv").write_text("")
+    assert results_module._setup_inputs(setup)[:2] == [record, tmp_path / "channels.csv"]
+    in_memory = SimpleNamespace(record=SimpleNamespace(path=None), path=None)
+    assert results_module._setup_inputs(in_memory) == []
+    assert results_module._inputs([in_memory], SimpleNamespace(source=str(tmp_path / "no such folder"))) == []
+    assert results_module._inputs([in_memory], SimpleNamespace(source=str(tmp_path))) == [tmp_path]
+
+
+def test_animations_by_default():
+    """``modal identify`` animates unless told not to (``--no-animation``); so do the functions."""
+    assert inspect.signature(write_setups).parameters["animate"].default is True
+    assert inspect.signature(draw_modes).parameters["animate"].default is True
 
 
 def test_the_shapes_are_drawn_without_animations_when_asked(written):
     out, modes = written["out"], written["merged"].modes
     assert (out / "modes.png").is_file()
     assert sorted(p.name for p in out.glob("mode_*")) == sorted(f"mode_{m}.png" for m in modes["mode"])
+    n = len(modes)
+    drawn = [line for line in written["lines"] if line.startswith("  mode ")]
+    assert drawn == [f"  mode {m} ({k}/{n}): mode_{m}.png" for k, m in enumerate(modes["mode"], start=1)]
