@@ -99,6 +99,9 @@ def test_the_merged_tables_are_the_merges_at_six_digits(written):
     setups = written["setups"]
     assert list(channels.columns) == ["setup", *setups[0].channels.columns]
     assert list(channels["setup"]) == [s.name for s in setups for _ in range(len(s.channels))]
+    table = pd.concat([s.channels for s in setups])
+    assert np.allclose(channels[["x", "y", "z"]].to_numpy(float), table[["x", "y", "z"]].to_numpy(float), rtol=1e-5,
+                       atol=0)
     assert setups[1].channels.loc[2, "z"] != 1.0  # the tilt: digits beyond six to round
     assert significant_digits((out / "channels.csv").read_text()) <= 6
 
