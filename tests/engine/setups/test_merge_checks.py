@@ -273,6 +273,30 @@ def test_without_a_geometry_a_node_is_judged_against_three_others_at_least():
     assert pivot == 1.0 and list(flags) == ["24"] and "moves 60 x" in flags["24"]
 
 
+def test_normalisation_flags_down_to_the_first_node_that_agrees_and_no_further():
+    """Two nodes far above their neighbours, one below the other, are both
+    flagged; the first that agrees ends the search, so a smaller local peak
+    further down is not judged; a ratio of exactly 1.8 is not "more than"."""
+    z = np.array([np.nan, np.nan, 1.0 + 0j])
+    per_node = {"c": 10 * z, "d": 5 * z, "a": 1.0 * z, "b": 0.9 * z, "e": 0.5 * z}
+    neighbours = {"c": {"a", "b"}, "d": {"e"}, "a": {"c", "b"}, "b": {"a", "c"}, "e": {"d"}}
+    pivot, flags = normalise(per_node, neighbours)
+    assert list(flags) == ["c", "d"] and pivot == 1.0
+    per_node = {"a": 10 * z, "b": 9 * z, "d": 3 * z, "e": 1 * z}  # d: 3 x its neighbour, below a that agrees
+    neighbours = {"a": {"b"}, "b": {"a", "d"}, "d": {"e"}, "e": {"d"}}
+    assert normalise(per_node, neighbours) == (10.0, {})
+    per_node = {"a": 2.25 * z, "b": 1.25 * z}  # 2.25 = 1.8 x 1.25 exactly
+    assert normalise(per_node, {"a": {"b"}, "b": {"a"}}) == (2.25, {})
+
+
+def test_a_shape_without_a_finite_or_nonzero_component_is_left_as_it_is():
+    """The factor is 1 when no node has a finite component or every component
+    is zero (a shape that cannot be scaled is not divided by 0)."""
+    nan = np.full(3, np.nan + 0j)
+    assert normalise({"a": nan, "b": nan}) == (1.0, {})
+    assert normalise({"a": np.zeros(3, complex), "b": nan}) == (1.0, {})
+
+
 def test_declared_velocity_and_displacement_channels_reach_the_identification():
     """One node measured in acceleration, velocity (mm/s) and displacement:
     a setup is identified with each channel's quantity, so the three give
