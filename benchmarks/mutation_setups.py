@@ -50,7 +50,8 @@ SYNTHETIC = [CHECKS + t for t in (
     "test_a_node_far_above_its_neighbours_on_the_geometry_is_flagged_in_shapes",
     "test_the_merged_tables_hold_the_setups_statistics_and_directions")] + [
     SETUPS + "test_node_shapes_resolve_oblique_directions", SETUPS + "test_two_close_modes_of_one_setup_stay_two",
-    "tests/engine/setups/test_merge_bounds.py", "tests/engine/setups/test_merge_tables.py"]
+    "tests/engine/setups/test_merge_bounds.py", "tests/engine/setups/test_merge_tables.py",
+    "tests/engine/setups/test_merge_parts.py"]
 
 #: Reading channel tables, pyOMA's and pyOMA2's files and geometries.
 READING = [SETUPS + t for t in (
