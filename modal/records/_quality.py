@@ -73,12 +73,12 @@ def _clipped_ends(y) -> list[np.ndarray]:
     """The samples of each end of ``y`` (its largest, its smallest value)
     that is a pile-up by the rule of :func:`clipped_samples`."""
     clipped = []
-    for extreme, inward in ((np.max(y), y < np.max(y)), (np.min(y), y > np.min(y))):
+    top, bottom = np.max(y), np.min(y)
+    for extreme, inward, nearest in ((top, y < top, np.max), (bottom, y > bottom, np.min)):
         at = np.flatnonzero(y == extreme)
         if at.size < CLIP_MIN_SAMPLES or not inward.any():
             continue
-        inner = y[inward]
-        next_value = np.max(inner) if extreme == np.max(y) else np.min(inner)
+        next_value = nearest(y[inward])  # the next distinct value inward
         if at.size >= CLIP_PILE_UP * np.count_nonzero(y == next_value):
             clipped.append(at)
     return clipped
