@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_stabilisation.py"
-FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_notes",
+FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_side_bands", "_notes",
              "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std")
 TRUST = "tests/engine/identification/test_selection_trust.py"
 STAB = "tests/engine/identification/test_stabilisation.py::"
@@ -31,7 +31,7 @@ MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
 SELECTION = "tests/engine/identification/test_mode_selection.py::"
 
 machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS]
-machinery.TESTS = {"_stabilisation.py": [TRUST] + [STAB + t for t in (
+machinery.TESTS = {"_stabilisation.py": [TRUST, "tests/engine/identification/test_side_bands.py"] + [STAB + t for t in (
     "test_stability_criteria_bounds_and_names", "test_select_modes_on_a_known_pole_table",
     "test_select_modes_needs_min_poles_candidates", "test_select_modes_without_a_large_enough_cluster",
     "test_select_modes_joins_groups_by_average_linkage", "test_select_modes_weighs_damping_with_frequency",

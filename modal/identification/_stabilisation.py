@@ -41,6 +41,9 @@ SAME_SHAPE_ATOL = 1e-9
 #: near a node of a real mode is common (simulated chains with two sensors flagged real modes).
 MIN_CHANNELS_ALIKE = 3
 QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
+#: A side band lies within its half-power half-width ``zeta f`` of ``f_p +- f_m``, the damping ratio taken within
+#: these bounds (a side band's own damping is no physical quantity: 0.01 % would ask for an exact coincidence).
+SIDE_BAND_ZETA = (0.001, 0.1)
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
 HANKEL_MAX_BYTES = 512 * 2**20
@@ -791,7 +794,8 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
       fewer than two are; no check for a single mode);
     - ``single channel``: of :data:`MIN_CHANNELS_ALIKE` channels or more,
       one holds at least ``criteria.single_channel_share`` of the shape's
-      energy.
+      energy;
+    - ``side band of 116.9 Hz by 6.617 Hz``: see :func:`_side_bands`.
     """
     mpc, damping = modes["mpc"].to_numpy(), modes["damping"].to_numpy()
     clean = damping[mpc >= criteria.doubtful_mpc]
@@ -819,7 +823,52 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
             reasons.append(f"damping {100 * damping[k]:.2g} % implausible (median {100 * reference:.2g} %)")
         if len(visible) >= MIN_CHANNELS_ALIKE and share[k] >= criteria.single_channel_share:
             reasons.append("single channel")
-        flags.append("; ".join(reasons))
+        flags.append(reasons)
+    side_bands = _side_bands(freq, damping, n_poles, mode_mac, [not r for r in flags], criteria.mac_min)
+    return ["; ".join(reasons + ([side_bands[k]] if side_bands[k] else [])) for k, reasons in enumerate(flags)]
+
+
+def _side_bands(freq, damping, n_poles, mode_mac, trusted, mac_min) -> list[str]:
+    """Which modes are side bands of another (``"side band of 116.9 Hz by
+    6.617 Hz"``, or empty): lines of an amplitude-modulated response, not
+    modes of their own.
+
+    A mode ``p`` whose motion is modulated by the slowest mode ``m`` (a
+    nonlinear stiffness, a sensor's mounting, a rattling joint) has spectral
+    lines at ``f_p - f_m`` and ``f_p + f_m`` with ``p``'s shape: a
+    carrier ``cos(w_p t)`` times ``1 + e cos(w_m t)`` is ``cos(w_p t) +
+    e/2 cos((w_p - w_m) t) + e/2 cos((w_p + w_m) t)``. Both lines are then
+    flagged when
+
+    - ``m`` is the lowest-frequency mode without another reason to doubt it
+      (``trusted``);
+    - each lies within its half-power half-width ``zeta f`` (``zeta``
+      within :data:`SIDE_BAND_ZETA`) of ``f_p -+ f_m``;
+    - each has a shape of MAC at least ``mac_min`` with ``p``'s (always so
+      with one channel) and fewer poles than ``p`` (weaker);
+    - ``f_p`` is no multiple of ``f_m`` within its own half-width: in a
+      harmonic family (a string or a cable, ``f_n = n f_1``)
+      ``f_{n-1}`` and ``f_{n+1}`` lie exactly there and are modes.
+
+    Both lines are needed: a single mode at ``f_p + f_m`` is a coincidence
+    that the modes of a structure make often (a simply supported beam's
+    ``f_5 - f_3 = f_4``); a symmetric pair of weaker lines of the carrier's
+    shape is not (``n^2 +- k^2`` are never both squares).
+    """
+    n = len(freq)
+    flags = [""] * n
+    m = min((k for k in range(n) if trusted[k]), key=lambda k: freq[k], default=None)
+    if n < 4 or m is None:
+        return flags
+    width = freq * np.clip(np.nan_to_num(damping), *SIDE_BAND_ZETA)  # NaN damping: the lower bound
+    for p in range(n):
+        if p == m or abs(freq[p] - round(freq[p] / freq[m]) * freq[m]) <= width[p]:
+            continue
+        lines = [[k for k in range(n) if k not in (p, m) and abs(freq[k] - (freq[p] + sign * freq[m])) <= width[k]
+                  and mode_mac[k, p] >= mac_min and n_poles[k] < n_poles[p]] for sign in (-1, 1)]
+        if lines[0] and lines[1]:
+            for k in lines[0] + lines[1]:
+                flags[k] = flags[k] or f"side band of {freq[p]:.4g} Hz by {freq[m]:.4g} Hz"
     return flags
 
 
