@@ -49,10 +49,13 @@ def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
     refs : sequence of int, optional
         Reference channels (0-based); all channels by default.
     estimator : {"biased", "unbiased"}
-        ``N_k = N`` (biased: lower variance, always a positive semi-definite
-        sequence; it tapers lag ``k`` by ``1 - k / N``, which adds an apparent
-        damping ``~ 1 / (omega N dt)`` to each mode, negligible when
-        ``n_lags << N``) or ``N_k = N - k`` (unbiased).
+        ``N_k = N`` (biased: always a positive semi-definite sequence; it
+        tapers lag ``k`` by ``1 - k / N ~ exp(-k / N)``, which adds
+        ``1 / (omega N dt)`` to each mode's damping ratio: negligible only
+        when the record is far longer than the mode's decay time ``1 /
+        (zeta omega)``, e.g. 23 % of a 0.23 % damped 1.2 Hz mode in 240 s) or
+        ``N_k = N - k`` (unbiased, what :func:`modal.identify_record` uses;
+        over ``n_lags << N`` its larger variance is negligible).
 
     Returns
     -------
