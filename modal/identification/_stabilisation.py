@@ -500,7 +500,15 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     damping. The segments' estimates scatter with the record's noise; the
     standard deviation of their mean, ``std_k / sqrt(K)``, is that of the
     estimate from the whole record, widened by Student's ``t_{K-1}(0.975) /
-    1.96``. ``K`` counts, per mode, the segments that gave an estimate (a
+    1.96``. A record of length ``T`` also carries a bias, which grows as it
+    shortens (the correlations' random error at the late lags reads as too
+    little decay): segments of ``T / K`` carry about ``K`` times the
+    record's, so ``b = (mean_k theta_k - theta) / (K - 1)``, ``theta`` the
+    record's own estimate at that order (the seed pole), estimates it
+    (Quenouille's split-sample reasoning), and the standard deviation
+    returned is the root-mean-square error ``sqrt(s^2 + b^2)``, ``s`` the
+    widened standard deviation of the mean. ``K`` counts, per mode, the
+    segments that gave an estimate (a
     segment whose state matrix has no finite ``ln z``, e.g. a lone pulse, or
     whose ``U^T H_k(0)`` is exactly singular, gives none); NaN where fewer
     than two did.
@@ -558,10 +566,14 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     # K per mode: the segments that gave an estimate
     k_est = np.sum(np.isfinite(freq), axis=0)
     known = k_est >= 2
-    scale = t.ppf(0.975, k_est[known] - 1) / norm.ppf(0.975) / np.sqrt(k_est[known])
+    k = k_est[known]
+    scale = t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k)
+    record = np.array([s0 for _, s0 in seeds])[known]  # the record's own estimate at the same order
     freq_std, damping_std = np.full(n_modes, np.nan), np.full(n_modes, np.nan)
-    freq_std[known] = np.nanstd(freq[:, known], axis=0, ddof=1) * scale
-    damping_std[known] = np.nanstd(damping[:, known], axis=0, ddof=1) * scale
+    for out, estimates, own in ((freq_std, freq, np.abs(record) / (2 * np.pi)),
+                                (damping_std, damping, -record.real / np.abs(record))):
+        bias = (np.nanmean(estimates[:, known], axis=0) - own) / (k - 1)
+        out[known] = np.hypot(np.nanstd(estimates[:, known], axis=0, ddof=1) * scale, bias)
     return freq_std, damping_std
 
 

@@ -77,7 +77,8 @@ def test_two_segments_a_percent_apart():
     b, _ = _free_decay(1.01**2)
     result = modal.stabilisation(a, 0.02, 8, 40, criteria=modal.StabilityCriteria(min_poles=2), segments=[a, b])
     assert len(result.modes) >= 1  # the higher modes appear only at the highest orders of this rank-8 data
-    expected = 0.01 * f[:len(result.modes)] / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    spread = 0.01 * f[:len(result.modes)] / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    expected = np.hypot(spread, 0.005 * f[:len(result.modes)])  # and the bias of the mean against the record (a)
     np.testing.assert_allclose(result.modes["freq_hz"], f[:len(result.modes)], rtol=1e-3)  # mean over orders
     np.testing.assert_allclose(result.modes["freq_std_hz"], expected, rtol=0.02)
 
@@ -96,11 +97,31 @@ def test_two_segments_damped_ten_percent_apart():
     result = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a, b])
     n = len(result.modes)
     assert n >= 1
-    expected = 0.1 * np.array(DAMPING[:n]) / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    spread = 0.1 * np.array(DAMPING[:n]) / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    expected = np.hypot(spread, 0.05 * np.array(DAMPING[:n]))  # and the bias of the mean against the record (a)
     np.testing.assert_allclose(result.modes["damping_std"], expected, rtol=0.02)
     assert np.all(result.modes["freq_std_hz"] <= 1e-4 * f[:n]), result.modes["freq_std_hz"] / f[:n]  # 4e-6
     alone = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[a]).modes
     assert len(alone) == n and alone[["freq_std_hz", "damping_std"]].isna().all().all()
+
+
+def test_segments_that_agree_with_each_other_but_not_with_the_record_give_their_bias():
+    """Three noise-free segments alike, 1 % stiffer in frequency (or 10 %
+    more damped) than the record: no scatter, but the split-sample bias
+    ``(mean_k f_k - f) / (K - 1)`` = 0.005 f (0.05 zeta), which is then
+    the whole standard deviation; the record's own pole is the reference
+    (its mean over orders differs from it by round-off here)."""
+    a, f = _free_decay(1.0)
+    b, _ = _free_decay(1.01**2)
+    criteria = modal.StabilityCriteria(min_poles=2)
+    modes = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[b, b, b]).modes
+    n = len(modes)
+    assert n >= 1
+    np.testing.assert_allclose(modes["freq_std_hz"], 0.005 * f[:n], rtol=0.02)
+    damped, _ = _free_decay(1.0, damping_factor=1.1)
+    modes = modal.stabilisation(a, 0.02, 8, 40, criteria=criteria, segments=[damped, damped, damped]).modes
+    np.testing.assert_allclose(modes["damping_std"], 0.05 * np.array(DAMPING[:n]), rtol=0.02)
+    assert np.all(modes["freq_std_hz"] <= 1e-4 * f[:n])
 
 
 def test_a_segment_without_an_estimate_is_not_counted():
@@ -143,7 +164,7 @@ def test_each_mode_takes_its_own_eigenvalue_when_modes_are_close():
     a, b = decay(f), decay(1.01 * f)
     modes = modal.stabilisation(a, dt, 12, 40, criteria=modal.StabilityCriteria(min_poles=2), segments=[a, b]).modes
     np.testing.assert_allclose(modes["freq_hz"], f, rtol=1e-6)
-    expected = 0.01 * f / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2)
+    expected = np.hypot(0.01 * f / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2), 0.005 * f)
     np.testing.assert_allclose(modes["freq_std_hz"], expected, rtol=0.02)
 
 
@@ -170,7 +191,8 @@ def _std_one_mode_at_a_time(segments, p, poles, modes, rows, cols, l, dt):
     """``segment_std`` written out per mode, from its definition: ``U`` the
     leading ``n`` left singular vectors at the mode's fullest order ``n``,
     ``A_k = (U^T H_k(1)) (U^T H_k(0))^+`` per segment, the eigenvalue nearest
-    the mode's pole there."""
+    the mode's pole there; the widened standard deviation of their mean and
+    the split-sample bias against that pole, root-mean-square."""
     from scipy.stats import norm, t
 
     from modal.identification._hankel import hankel
@@ -189,7 +211,8 @@ def _std_one_mode_at_a_time(segments, p, poles, modes, rows, cols, l, dt):
             s = np.log(z.astype(complex)) / dt
             estimates.append(abs(s[np.argmin(np.abs(s - s0))]) / (2 * np.pi))
         k = len(estimates)
-        out.append(np.std(estimates, ddof=1) * t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k))
+        bias = (np.mean(estimates) - abs(s0) / (2 * np.pi)) / (k - 1)  # against the record's pole at that order
+        out.append(np.hypot(np.std(estimates, ddof=1) * t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k), bias))
     return np.array(out)
 
 
