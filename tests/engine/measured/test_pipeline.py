@@ -81,11 +81,14 @@ def _same_diagram(got, expected):
     return dt
 
 
+UNBIASED = "unbiased"  # identify_record's correlations: the biased taper adds 1 / (omega T) to the damping
+
+
 @pytest.mark.slow
 def test_identify_record_ambient_preprocessing():
     """Ambient: detrend, decimate by floor(fs / (2.5 fmax)) when that is at
     least 2, high-pass, then NExT correlations with 2 rows + 1 lags from the
-    chosen references; rows default to max(60, ceil(2 max_order / n_channels)).
+    chosen references (the unbiased estimator); rows default to max(60, ceil(2 max_order / n_channels)).
     The diagram is the stabilisation of exactly those correlations (of the
     detrended record divided by the power of two nearest its peak)."""
 
@@ -100,20 +103,20 @@ def test_identify_record_ambient_preprocessing():
     got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=10, fmax=15.0, refs=[1], highpass_hz=0.5,
                criteria=criteria, progress=lambda done, total: calls.append((done, total)))
     y, dt = modal.decimate(detrended(acc), 0.01, 2)
-    data = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1])
+    data = modal.correlations(modal.zero_phase_filter(y, dt, highpass_hz=0.5), 121, refs=[1], estimator=UNBIASED)
     assert _same_diagram(got, _run(modal.stabilisation, data, 0.02, 10, 60, fmax=15.0, criteria=criteria)) == 0.02
     assert calls == [(i, 5) for i in range(1, 6)]  # orders 2 ... 10
 
     # fmax = 30 Hz: q = floor(100 / 75) = 1, no decimation; 2 * 100 / 3 channels: 67 rows, 135 lags
     got = _run(modal.identify_record, acc, 0.01, "ambient", max_order=100, fmax=30.0)
-    expected = _run(modal.stabilisation, modal.correlations(detrended(acc), 135), 0.01, 100, 67, fmax=30.0)
+    expected = _run(modal.stabilisation, modal.correlations(detrended(acc), 135, estimator=UNBIASED), 0.01, 100, 67, fmax=30.0)
     assert _same_diagram(got, expected) == 0.01
     # the defaults: orders up to 60, 60 rows, 121 lags from every channel
     got = _run(modal.identify_record, acc, 0.01, "ambient")
-    assert _same_diagram(got, _run(modal.stabilisation, modal.correlations(detrended(acc), 121), 0.01, 60, 60)) == 0.01
+    assert _same_diagram(got, _run(modal.stabilisation, modal.correlations(detrended(acc), 121, estimator=UNBIASED), 0.01, 60, 60)) == 0.01
     # the lags may fill half the record: 151 of 302 samples (751 of 1502), not 153 (753)
     got = _run(modal.identify_record, acc[:302], 0.01, "ambient", rows=75)
-    expected = _run(modal.stabilisation, modal.correlations(detrended(acc[:302]), 151), 0.01, 60, 75)
+    expected = _run(modal.stabilisation, modal.correlations(detrended(acc[:302]), 151, estimator=UNBIASED), 0.01, 60, 75)
     assert _same_diagram(got, expected) == 0.01
     with pytest.raises(ValueError, match="^rows = 376 needs 753 lags, more than half the 1502-sample record"):
         modal.identify_record(acc[:1502], 0.01, "ambient", rows=376)
