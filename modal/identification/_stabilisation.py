@@ -537,16 +537,20 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
         omega, zeta = 2 * np.pi * f_pole[r], poles["damping"][r]
         seeds.append((int(order[r]), omega * complex(-zeta, np.sqrt(max(1 - zeta**2, 0.0)))))
     n_max = max(n for n, _ in seeds)
+    seed_s = np.array([s0 for _, s0 in seeds])
     u = p[:, :n_max]
     by_order = {}  # the modes of each fullest order: one state matrix per segment and order
     for j, (n, _) in enumerate(seeds):
         by_order.setdefault(n, []).append(j)
     freq, damping = np.full((k_seg, n_modes), np.nan), np.full((k_seg, n_modes), np.nan)
     for k, segment in enumerate(segments):
-        h = hankel(segment, rows + 1, cols, start)
+        # g0 = U^T H_k(0) and g1 = U^T H_k(1) from one product: H_k(1) is H_k(0) one block column on
+        g = u.T @ hankel(segment, rows, cols + 1, start)
+        m = segment.shape[0]
+        g0, g1 = g[:, :-m], g[:, m:]
         # g0^T = Q R, so g0[:n]^+ = Q[:, :n] R[:n, :n]^-T for every n, and A_k^T = R[:n, :n]^-1 (g1 Q)[:n, :n]^T
-        q, r = np.linalg.qr((u.T @ h[:-l]).T)
-        w = (u.T @ h[l:]) @ q
+        q, r = np.linalg.qr(g0.T)
+        w = g1 @ q
         for n, modes_n in by_order.items():
             try:
                 a_t = solve_triangular(r[:n, :n], w[:n, :n].T)
@@ -556,11 +560,10 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
             with np.errstate(divide="ignore", invalid="ignore"):
                 s = np.log(z.astype(complex)) / dt
             s = s[np.isfinite(s)]
-            if s.size:
-                for j in modes_n:
-                    near = s[np.argmin(np.abs(s - seeds[j][1]))]
-                    freq[k, j] = abs(near) / (2 * np.pi)
-                    damping[k, j] = -near.real / abs(near)
+            if s.size:  # each mode's nearest eigenvalue
+                near = s[np.argmin(np.abs(s[:, None] - seed_s[modes_n]), axis=0)]
+                freq[k, modes_n] = np.abs(near) / (2 * np.pi)
+                damping[k, modes_n] = -near.real / np.abs(near)
     from scipy.stats import norm, t
 
     # K per mode: the segments that gave an estimate
@@ -568,7 +571,7 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
     known = k_est >= 2
     k = k_est[known]
     scale = t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k)
-    record = np.array([s0 for _, s0 in seeds])[known]  # the record's own estimate at the same order
+    record = seed_s[known]  # the record's own estimate at the same order
     freq_std, damping_std = np.full(n_modes, np.nan), np.full(n_modes, np.nan)
     for out, estimates, own in ((freq_std, freq, np.abs(record) / (2 * np.pi)),
                                 (damping_std, damping, -record.real / np.abs(record))):
