@@ -78,19 +78,20 @@ def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
         if np.any(refs < 0) or np.any(refs >= n_channels) or len(set(refs.tolist())) != refs.size:
             raise ValueError(f"refs must be distinct channel indices in 0 ... {n_channels - 1}, got {refs.tolist()}")
     cross, n_fft = _cross_spectra_sum(y, n_lags, refs)
-    corr = scipy.fft.irfft(cross, n=n_fft, axis=1)[:, :n_lags, :]
+    corr = scipy.fft.irfft(cross, n=n_fft, axis=0)[:n_lags].transpose(1, 0, 2)
     counts = n_samples - np.arange(n_lags) if estimator == "unbiased" else np.full(n_lags, n_samples)
-    return corr / (n_sets * counts)[None, :, None]
+    return np.ascontiguousarray(corr / (n_sets * counts)[None, :, None])
 
 
 def _cross_spectra_sum(y, n_lags, refs):
     """``sum over blocks and data sets of conj(FFT(y_r)) FFT(y_c)``, shape
-    ``(n_refs, n_bins, n_channels)``, on one FFT length for all blocks, and
-    that length."""
+    ``(n_bins, n_refs, n_channels)``, on one FFT length for all blocks, and
+    that length. A record of one block allocates no array beyond its
+    spectra and their products (each a fresh page of memory costs time)."""
     n_sets, n_samples, n_channels = y.shape
     block = max(4 * n_lags, min(BLOCK_SAMPLES, CROSS_SPECTRA_BYTES // (8 * len(refs) * n_channels)))
     n_fft = scipy.fft.next_fast_len(min(block, n_samples) + n_lags, real=True)
-    cross = np.zeros((len(refs), n_fft // 2 + 1, n_channels), dtype=complex)
+    cross = None
     for start in range(0, n_samples, block):
         stop = min(start + block, n_samples)
         ahead = y[:, start:min(stop + n_lags - 1, n_samples)]  # the channels, n_lags - 1 beyond the block
@@ -98,5 +99,9 @@ def _cross_spectra_sum(y, n_lags, refs):
         ref_spectra = spectra[:, :, refs] if stop == ahead.shape[1] + start else scipy.fft.rfft(
             y[:, start:stop][:, :, refs], n=n_fft, axis=1)
         # per bin, the (references x channels) sum over data sets: one small matrix product (faster than einsum)
-        cross += np.matmul(ref_spectra.conj().transpose(1, 2, 0), spectra.transpose(1, 0, 2)).transpose(1, 0, 2)
+        product = np.matmul(ref_spectra.conj().transpose(1, 2, 0), spectra.transpose(1, 0, 2))
+        if cross is None:
+            cross = product
+        else:
+            cross += product
     return cross, n_fft
