@@ -350,10 +350,12 @@ def identify_record(
                              "reduce rows or give a longer record")
         n_refs = n_channels if refs is None else len(refs)
         _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs)
-        log(f"correlations: {n_lags} lags ({CORRELATION_ESTIMATOR} estimator), references {list(range(n_channels)) if refs is None else list(refs)}")
+        chosen_refs = list(range(n_channels)) if refs is None else list(refs)
+        log(f"correlations: {n_lags} lags ({CORRELATION_ESTIMATOR} estimator), references {chosen_refs}")
         data, start, cols = correlations(y, n_lags, refs=refs, estimator=CORRELATION_ESTIMATOR), 0, None
         n_segments = min(SEGMENTS, max(MIN_SEGMENTS, y.shape[0] // (SEGMENT_LAGS * n_lags)), y.shape[0] // (2 * n_lags))
-        chosen.update(n_lags=n_lags, correlation_estimator=CORRELATION_ESTIMATOR, references=[labels[r] for r in (range(n_channels) if refs is None else refs)])
+        chosen.update(n_lags=n_lags, correlation_estimator=CORRELATION_ESTIMATOR,
+                      references=[labels[r] for r in chosen_refs])
         if n_segments >= MIN_SEGMENTS:
             length = y.shape[0] // n_segments
             segments = [correlations(y[k * length:(k + 1) * length], n_lags, refs=refs, estimator=CORRELATION_ESTIMATOR)
