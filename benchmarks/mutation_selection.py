@@ -49,7 +49,8 @@ machinery.TESTS = {"_stabilisation.py": [TRUST, "tests/engine/identification/tes
         "test_two_segments_damped_ten_percent_apart", "test_a_segment_without_an_estimate_is_not_counted",
         "test_each_mode_takes_its_own_eigenvalue_when_modes_are_close",
         "test_segments_that_agree_with_each_other_but_not_with_the_record_give_their_bias",
-        "test_each_mode_takes_the_state_matrix_of_its_own_fullest_order")]}
+        "test_each_mode_takes_the_state_matrix_of_its_own_fullest_order",
+        "test_a_segment_singular_at_one_order_still_counts_at_the_others")]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_selection_equivalent.txt"
 
 if __name__ == "__main__":

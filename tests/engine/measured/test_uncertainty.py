@@ -243,3 +243,45 @@ def test_each_mode_takes_the_state_matrix_of_its_own_fullest_order():
     freq_std, _ = segment_std(segments, p, poles, result.modes, rows, cols, 0, l, dt)
     expected = _std_one_mode_at_a_time(segments, p, poles, result.modes, rows, cols, l, dt)
     np.testing.assert_allclose(freq_std, expected, rtol=1e-6)
+
+
+def test_a_segment_singular_at_one_order_still_counts_at_the_others():
+    """A segment whose ``U^T H_k(0)`` is exactly singular at the top order
+    (its last basis vectors see only a channel whose correlations are zero
+    beyond lag 0 in that segment) gives no estimate to the modes of that order, but still gives
+    one to a mode of a lower order, where it is regular: the lower mode's
+    std equals the one from all five segments, the top modes' the one from
+    the four others (a ``break`` instead of ``continue`` drops the segment
+    for every order that follows)."""
+    from modal.identification import segment_std
+    from modal.identification._era_kernels import decompose
+    from modal.identification._hankel import hankel
+
+    omega, modes = shear_frame_modes()
+    acc = modal.ambient_response(omega, DAMPING, modes, modes, 7500, 0.05, seed=3, force_rms=100.0)
+    acc += 0.05 * acc.std(axis=0) * np.random.default_rng(1).standard_normal(acc.shape)
+    acc = modal.detrend(acc)
+    rows, cols, l, dt = 60, 61, 4, 0.05
+    segments = [modal.correlations(acc[k * 1500:(k + 1) * 1500], 121) for k in range(5)]
+    segments[4][:, 1:, 3] = 0.0  # channel 3 of the last segment uncorrelated beyond lag 0
+    result = modal.stabilisation(modal.correlations(acc, 121), dt, 20, rows)
+    p = decompose(hankel(modal.correlations(acc, 121), rows + 1, cols)[:-l], 20, block=(l, 4))[0]
+    poles = {c: result.poles[c].to_numpy() for c in ("mode", "order", "freq_hz", "damping")}
+    top = poles["order"].max()
+    lowered = result.modes["mode"].iloc[1]
+    poles["mode"] = np.where((poles["mode"] == lowered) & (poles["order"] == top), 0, poles["mode"])
+    low = poles["order"][poles["mode"] == lowered].max()
+    assert low < top and result.modes["mode"].iloc[0] != lowered  # the top order comes first
+    # the basis beyond the lower order: vectors on channel 3's rows from block row 1 on (lags >= 1 only), so
+    # U^T H_4(0) has zero rows there
+    channel_3 = np.zeros((p.shape[0], top - low))
+    channel_3[4 + 3::4][: top - low] = np.eye(top - low)
+    p = np.hstack([p[:, :low], channel_3])
+    freq_std, damping_std = segment_std(segments, p, poles, result.modes, rows, cols, 0, l, dt)
+    with np.errstate(divide="ignore", invalid="ignore"):  # the top modes' eigenvalue 0 in segment 4: not used
+        all_five = _std_one_mode_at_a_time(segments, p, poles, result.modes, rows, cols, l, dt)
+    four = _std_one_mode_at_a_time(segments[:4], p, poles, result.modes, rows, cols, l, dt)
+    at_low = (result.modes["mode"] == lowered).to_numpy()
+    np.testing.assert_allclose(freq_std[at_low], all_five[at_low], rtol=1e-6)
+    np.testing.assert_allclose(freq_std[~at_low], four[~at_low], rtol=1e-6)
+    assert not np.allclose(all_five[at_low], four[at_low], rtol=1e-3)  # the fifth segment matters
