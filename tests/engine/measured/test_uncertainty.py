@@ -216,6 +216,32 @@ def _std_one_mode_at_a_time(segments, p, poles, modes, rows, cols, l, dt):
     return np.array(out)
 
 
+def _two_fullest_orders(n_segments):
+    """A 4-storey frame's ambient record cut into ``n_segments`` segments of
+    1500 samples (their correlations, 121 lags), its stabilisation (rows 60,
+    orders up to 20), the basis ``p`` of its ``H(0)``, and its pole table
+    with the second mode's poles at the top order taken out: that mode's
+    fullest model is a lower order than the others'. Returns ``segments,
+    result, p, poles, lowered (the second mode's number), top (the top order)``."""
+    from modal.identification._era_kernels import decompose
+    from modal.identification._hankel import hankel
+
+    omega, modes = shear_frame_modes()
+    acc = modal.ambient_response(omega, DAMPING, modes, modes, 1500 * n_segments, 0.05, seed=3, force_rms=100.0)
+    acc += 0.05 * acc.std(axis=0) * np.random.default_rng(1).standard_normal(acc.shape)
+    acc = modal.detrend(acc)
+    rows, cols, l = 60, 61, 4
+    segments = [modal.correlations(acc[k * 1500:(k + 1) * 1500], 121) for k in range(n_segments)]
+    whole = modal.correlations(acc, 121)
+    result = modal.stabilisation(whole, 0.05, 20, rows)
+    p = decompose(hankel(whole, rows + 1, cols)[:-l], 20, block=(l, 4))[0]
+    poles = {c: result.poles[c].to_numpy() for c in ("mode", "order", "freq_hz", "damping")}
+    top = poles["order"].max()
+    lowered = result.modes["mode"].iloc[1]
+    poles["mode"] = np.where((poles["mode"] == lowered) & (poles["order"] == top), 0, poles["mode"])
+    return segments, result, p, poles, lowered, top
+
+
 def test_each_mode_takes_the_state_matrix_of_its_own_fullest_order():
     """Modes whose fullest models have different orders (one mode's poles
     at the highest order taken out): each mode's std is that of the
@@ -223,22 +249,10 @@ def test_each_mode_takes_the_state_matrix_of_its_own_fullest_order():
     time (segment_std decomposes each order's state matrix once per
     segment and shares it between the modes of that order)."""
     from modal.identification import segment_std
-    from modal.identification._era_kernels import decompose
-    from modal.identification._hankel import hankel
 
-    omega, modes = shear_frame_modes()
-    acc = modal.ambient_response(omega, DAMPING, modes, modes, 6000, 0.05, seed=3, force_rms=100.0)
-    acc += 0.05 * acc.std(axis=0) * np.random.default_rng(1).standard_normal(acc.shape)
-    acc = modal.detrend(acc)
+    segments, result, p, poles, lowered, top = _two_fullest_orders(4)
     rows, cols, l, dt = 60, 61, 4, 0.05
-    segments = [modal.correlations(acc[k * 1500:(k + 1) * 1500], 121) for k in range(4)]
-    result = modal.stabilisation(modal.correlations(acc, 121), dt, 20, rows)
     assert len(result.modes) >= 3
-    p = decompose(hankel(modal.correlations(acc, 121), rows + 1, cols)[:-l], 20, block=(l, 4))[0]
-    poles = {c: result.poles[c].to_numpy() for c in ("mode", "order", "freq_hz", "damping")}
-    top = poles["order"].max()
-    lowered = result.modes["mode"].iloc[1]
-    poles["mode"] = np.where((poles["mode"] == lowered) & (poles["order"] == top), 0, poles["mode"])
     assert poles["order"][poles["mode"] == lowered].max() < top  # two fullest orders among the modes
     freq_std, _ = segment_std(segments, p, poles, result.modes, rows, cols, 0, l, dt)
     expected = _std_one_mode_at_a_time(segments, p, poles, result.modes, rows, cols, l, dt)
@@ -254,22 +268,10 @@ def test_a_segment_singular_at_one_order_still_counts_at_the_others():
     the four others (a ``break`` instead of ``continue`` drops the segment
     for every order that follows)."""
     from modal.identification import segment_std
-    from modal.identification._era_kernels import decompose
-    from modal.identification._hankel import hankel
 
-    omega, modes = shear_frame_modes()
-    acc = modal.ambient_response(omega, DAMPING, modes, modes, 7500, 0.05, seed=3, force_rms=100.0)
-    acc += 0.05 * acc.std(axis=0) * np.random.default_rng(1).standard_normal(acc.shape)
-    acc = modal.detrend(acc)
+    segments, result, p, poles, lowered, top = _two_fullest_orders(5)
     rows, cols, l, dt = 60, 61, 4, 0.05
-    segments = [modal.correlations(acc[k * 1500:(k + 1) * 1500], 121) for k in range(5)]
     segments[4][:, 1:, 3] = 0.0  # channel 3 of the last segment uncorrelated beyond lag 0
-    result = modal.stabilisation(modal.correlations(acc, 121), dt, 20, rows)
-    p = decompose(hankel(modal.correlations(acc, 121), rows + 1, cols)[:-l], 20, block=(l, 4))[0]
-    poles = {c: result.poles[c].to_numpy() for c in ("mode", "order", "freq_hz", "damping")}
-    top = poles["order"].max()
-    lowered = result.modes["mode"].iloc[1]
-    poles["mode"] = np.where((poles["mode"] == lowered) & (poles["order"] == top), 0, poles["mode"])
     low = poles["order"][poles["mode"] == lowered].max()
     assert low < top and result.modes["mode"].iloc[0] != lowered  # the top order comes first
     # the basis beyond the lower order: vectors on channel 3's rows from block row 1 on (lags >= 1 only), so
