@@ -14,6 +14,7 @@ import modal.campaign
 from modal.campaign import read_campaign, reference_modes, simulate_campaign, track_modes
 from modal.cli import main as cli
 from modal.measured import OutputError
+from tests.browser import assert_readable, rendered
 
 
 @pytest.fixture(scope="module")
@@ -90,6 +91,19 @@ def test_failed_records_are_listed_and_the_campaign_goes_on(campaign):
     assert "33</b> records" in report and "broken.csv" in report
     assert "campaign.yaml" not in report.split("Provenance")[0]  # not a record; named only as the command run
     assert "data:image/png;base64," in report and "Provenance" in report
+
+
+def test_report_reads_in_a_browser(campaign):
+    """Opened in Chromium in a laptop's window: the four pictures (every
+    mode over time, the tracked modes, frequency against the temperature,
+    the tracked shapes) decode and show, nothing is fetched from elsewhere,
+    no sideways scrolling; one row per tracked mode and per failed record."""
+    _, out, _ = campaign
+    seen = rendered(out / "report.html")
+    assert_readable(seen, images=4)
+    rows = sorted(t["rows"] for t in seen["tables"])
+    assert rows == sorted([1 + pd.read_csv(out / "tracked.csv")["mode"].nunique(),
+                           1 + len(pd.read_csv(out / "failed.csv"))])
 
 
 def test_a_rerun_resumes_and_new_records_add_only_their_jobs(campaign, tmp_path):

@@ -14,6 +14,8 @@ import pytest
 
 from workflow_run import ROOT, SMALL_CONFIG_FILE, run_snakemake
 
+from tests.browser import assert_readable, rendered
+
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 NAMES = ["00_summary", "01_method_demo", "02_noise_study", "03_spillover", "04_cera", "05_grid"]
 # the figures each notebook shows (those that exist in the run)
@@ -154,6 +156,23 @@ def test_report_html(small_workflow):
     assert "Figure 9. Effect of noise (1st natural frequency)" in html
     assert "Figure 1. Identified mode shapes of a simply supported beam using the TCM" in html
     assert not re.search(r'(src|href)="(https?:|file:)', html)  # self-contained
+
+
+def test_report_reads_in_a_browser(small_workflow):
+    """results/report.html opened in Chromium in a laptop's window: every
+    figure the run drew (results/figures/*.png, and the pictures of the
+    measured records: Palisaden's diagram, the roving plate's shapes)
+    decodes and shows, Figures 1-21 once each, nothing is fetched from
+    elsewhere, no sideways scrolling; the summary table has a row per thesis
+    table (15)."""
+    results = small_workflow / "results"
+    measured = [results / "measured/palisaden/stabilisation.png", results / "measured/roving_plate/modes.png"]
+    assert all(p.is_file() for p in measured)
+    seen = rendered(results / "report.html")
+    assert_readable(seen, images=len(list((results / "figures").glob("*.png"))) + len(measured))
+    alts = [image["alt"] for image in seen["images"]]
+    assert [sum(a.startswith(f"Figure {n}. ") for a in alts) for n in range(1, 22)] == [1] * 21
+    assert seen["tables"][0]["rows"] == 1 + 15
 
 
 def test_failing_notebook_keeps_its_traceback(small_workflow):

@@ -14,6 +14,7 @@ import modal
 from modal.cli import blas_threads
 from modal.cli import main as cli
 
+from ...browser import assert_readable, rendered
 from ..cases import ambient_beam
 
 
@@ -105,6 +106,21 @@ def test_report_is_one_self_contained_page(beam_folder):
     assert "Chosen from the record" in page and "welch_nperseg" in page
     if "flag" in result.modes:
         assert ">flag</th>" in page
+
+
+@pytest.mark.slow
+def test_report_reads_in_a_browser(beam_folder):
+    """Opened in Chromium in a laptop's window: both pictures decode and show,
+    nothing is fetched from elsewhere, no sideways scrolling; the modes
+    table shows one row per row of modes.csv, the headings come in the
+    order a reader follows."""
+    _, out, _, _, _, _ = beam_folder
+    seen = rendered(out / "report.html")
+    assert_readable(seen, images=2)
+    modes = pd.read_csv(out / "modes.csv")
+    table = seen["tables"][0]
+    assert table["header"][:2] == ["mode", "frequency (Hz)"] and table["rows"] == len(modes) + 1
+    assert seen["headings"][1:5] == ["Modes", "Stabilisation diagram", "MAC of the selected modes", "Candidates"]
 
 
 def test_command_line_records_its_command_and_the_decimation(tmp_path):

@@ -17,6 +17,8 @@ from modal.setups import (direction_from_angles, merge_setups, node_motion, node
                           read_channel_table, read_geometry, read_pyoma_setup, read_setup, save_geometry, save_setup,
                           write_setups)
 
+from ...browser import assert_readable, rendered
+
 DATA = Path(__file__).resolve().parents[2] / "data"
 WEIMAR = Path(__file__).resolve().parents[4] / "shared" / "data" / "weimar_frame"
 PLATE = modal.SimplySupportedPlate(1.2, 0.8, 20.0, 10.0)  # 5.01, 9.64, 15.43, 17.36, 20.05 Hz
@@ -327,6 +329,12 @@ def test_command_line_setups(plate_folders, tmp_path, capsys):
                 "--out", str(out), "--quiet", "--no-animation"])
     assert code == 0, capsys.readouterr().err
     assert "6 setup(s): 5 modes" in capsys.readouterr().out
+    # the page a reader opens, in Chromium: the shapes and the six diagrams, one row per merged mode
+    seen = rendered(out / "report.html")
+    assert_readable(seen, images=1 + 6)
+    setups_table, modes_table = seen["tables"][:2]
+    assert setups_table["rows"] == 1 + 6 and modes_table["rows"] == 1 + len(pd.read_csv(out / "modes.csv"))
+    assert_readable(rendered(out / "setups" / folders[0].name / "report.html"), images=2)
     assert cli(["identify", *map(str, folders), "--refs", "0", "--ambient", "--out", str(tmp_path / "x")]) == 2
     assert "--refs: with setups" in capsys.readouterr().err
     assert cli(["identify", str(folders[0]), str(tmp_path), "--ambient", "--out", str(tmp_path / "y")]) == 3
