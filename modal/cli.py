@@ -362,9 +362,11 @@ def identify_setups(args, options) -> int:
           + (f"; {len(doubtful)} doubtful, in modes.csv with the reason in flag: "
              + ", ".join(f"{f:.4g} Hz" for f in doubtful["freq_hz"]) if len(doubtful) else ""))
     if len(modes):
-        print("damping and damping_spread: ratio to critical (fraction, not %); spreads over the setups")
-        print(modes[["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
-                     "ref_mac", "mpc", "n_nodes"]].to_string(index=False, float_format=lambda v: f"{v:.4g}"))
+        print("damping: ratio to critical (fraction, not %); *_std: standard deviation of the mean over the setups; "
+              "*_spread: the setups' standard deviation")
+        print(modes[["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
+                     "n_setups", "n_from_diagram", "ref_mac", "mpc", "n_nodes"]].to_string(
+                         index=False, float_format=lambda v: f"{v:.4g}"))
         return 0
     found = ", ".join(f"{s.name} {len(r.modes)}" for s, r in zip(setups, results))
     bad = "".join(f"; setup {row.setup} left out ({row.check}): {row.evidence}"

@@ -33,9 +33,10 @@ MODE_HEADINGS = {
 }
 #: ... of a roving test's merged modes.
 MERGED_HEADINGS = {
-    "mode": "mode", "freq_hz": "frequency (Hz)", "freq_spread_hz": "spread (Hz)", "damping": "damping (%)",
-    "damping_spread": "spread (%)", "n_setups": "setups", "n_from_diagram": "from diagram", "ref_mac": "ref. MAC",
-    "mpc": "MPC", "n_nodes": "nodes", "setups": "in setups", "flag": "flag",
+    "mode": "mode", "freq_hz": "frequency (Hz)", "freq_std_hz": "std (Hz)", "freq_spread_hz": "spread (Hz)",
+    "damping": "damping (%)", "damping_std": "std (%)", "damping_spread": "spread (%)", "n_setups": "setups",
+    "n_from_diagram": "from diagram", "ref_mac": "ref. MAC", "mpc": "MPC", "n_nodes": "nodes", "setups": "in setups",
+    "flag": "flag",
 }
 _PERCENT_COLUMNS = ("damping", "damping_std", "damping_spread", "efdd_damping")
 _TEXT_COLUMNS = ("flag", "setups", "setup", "modes_hz")
@@ -238,8 +239,10 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
         title=title, summary=summary, provenance=settings["provenance"], warnings=list(warnings),
         setups=table_html(table, name="setups"),
         modes=table_html(modes, MERGED_HEADINGS, _flagged(modes), name="modes") if len(modes) else "",
-        modes_note="Frequency and damping: means over the setups that hold the mode; spreads: their standard "
-                   "deviations; ref. MAC: the smallest MAC of a setup's reference channels with the consensus.",
+        modes_note="Frequency and damping: means over the setups that hold the mode; std: the standard deviation "
+                   "of that mean, from each setup's own (over its segments) or, where larger, from the setups' "
+                   "spread; spreads: the setups' standard deviations; ref. MAC: the smallest MAC of a setup's "
+                   "reference channels with the consensus.",
         no_mode_reason="", evidence=[], notes=[], figures=figures, mac_table=None, candidates=None,
         per_setup_figures=per_setup, steps=list(steps), settings=_settings_groups(settings))
     path = folder / "report.html"

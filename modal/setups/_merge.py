@@ -189,7 +189,9 @@ class MergedModes:
         One row per mode: ``mode``, ``freq_hz`` and ``freq_spread_hz``,
         ``damping`` and ``damping_spread`` (ratio; mean and standard
         deviation over the setups in which the mode was selected and
-        merged), ``n_setups`` (selected and merged in), ``n_from_diagram``
+        merged), ``freq_std_hz`` and ``damping_std`` (the standard deviation
+        of that mean, from the setups' own and their spread:
+        :func:`std_of_mean`), ``n_setups`` (selected and merged in), ``n_from_diagram``
         (setups whose shape came from their diagram, :func:`merge_setups`),
         ``setups`` (names), ``left_out`` (setups left out of this mode: see
         ``matches``), ``ref_mac`` (smallest MAC of a merged setup's
@@ -387,6 +389,35 @@ def node_neighbours(geometry) -> dict | None:
     return out
 
 
+def std_of_mean(estimates, stds) -> float:
+    """Standard deviation of the mean of ``n`` setups' estimates of one
+    quantity (a mode's frequency or damping), each with its own standard
+    deviation ``sigma_i`` (:func:`modal.identification.segment_std`).
+
+    The larger of the internal ``sqrt(sum sigma_i^2) / n`` (the setups'
+    records independent) and, with two setups or more, the external
+    ``s / sqrt(n)``, ``s`` the estimates' standard deviation (``ddof=1``):
+    setups that disagree beyond their own noise (the roving sensors' mass,
+    the temperature changing between setups) widen it, as Birge's ratio of
+    external to internal consistency does for a mean of measurements. The
+    internal part is unknown where a setup's ``sigma_i`` is NaN; NaN where
+    neither part is known (one setup without its own).
+
+    Parameters
+    ----------
+    estimates, stds : array_like, shape (n,)
+
+    Returns
+    -------
+    float
+    """
+    estimates, stds = np.asarray(estimates, dtype=float), np.asarray(stds, dtype=float)
+    n = estimates.size
+    internal = np.sqrt(np.sum(stds**2)) / n if n else np.nan  # NaN where a setup's own is
+    external = np.std(estimates, ddof=1) / np.sqrt(n) if n > 1 else np.nan
+    return float(np.nanmax([internal, external])) if np.isfinite([internal, external]).any() else np.nan
+
+
 def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, geometry=None) -> MergedModes:
     """Merge the modes of several setups (PoSER).
 
@@ -467,10 +498,11 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
                   for s, k, _, _, _ in cluster]
         doubts = [d for d in doubts if d and d != "nan"] if all(d and d != "nan" for d in doubts) else []
         flag = f"doubtful in every setup that selected it ({max(set(doubts), key=doubts.count)})" if doubts else ""
-        members = {}
+        members, own_std = {}, {}
         for s, k, f, _, _ in cluster:
             m = results[s].modes.iloc[k]
             members[s] = (results[s].complex_shapes[:, k], float(f), float(m["damping"]), int(m["mode"]), "selected")
+            own_std[s] = (float(m.get("freq_std_hz", np.nan)), float(m.get("damping_std", np.nan)))
         selected_refs = {s: results[s].complex_shapes[ref_rows[s], k] for s, k, _, _, _ in cluster}
         consensus = _consensus(np.stack(list(selected_refs.values()), axis=1)) if keys else np.empty(0)
         freq = float(np.mean([it[2] for it in cluster]))
@@ -538,13 +570,15 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
                                "x_im": u[0].imag, "y_im": u[1].imag, "z_im": u[2].imag, "flag": flags.get(node, "")})
         stacked = np.concatenate([per_node[n] for n in per_node])
         known = stacked[~np.isnan(stacked)]
-        selected = [members[s] for s in members if members[s][4] == "selected"]
-        frequencies, dampings = np.array([m[1] for m in selected]), np.array([m[2] for m in selected])
+        selected = [s for s in members if members[s][4] == "selected"]
+        frequencies, dampings = np.array([members[s][1] for s in selected]), np.array([members[s][2] for s in selected])
+        freq_std, damping_std = np.array([own_std[s] for s in selected]).T
         ref_macs = [m["ref_mac"] for m in matches if m["mode"] == number and m["status"] == "merged"]
         modes.append({
-            "mode": number, "freq_hz": frequencies.mean(),
+            "mode": number, "freq_hz": frequencies.mean(), "freq_std_hz": std_of_mean(frequencies, freq_std),
             "freq_spread_hz": frequencies.std(ddof=1) if len(frequencies) > 1 else np.nan,
-            "damping": dampings.mean(), "damping_spread": dampings.std(ddof=1) if len(frequencies) > 1 else np.nan,
+            "damping": dampings.mean(), "damping_std": std_of_mean(dampings, damping_std),
+            "damping_spread": dampings.std(ddof=1) if len(frequencies) > 1 else np.nan,
             "n_setups": len(selected), "n_from_diagram": len(members) - len(selected),
             "setups": " ".join(setups[s].name for s in sorted(members)),
             "left_out": " ".join(setups[s].name for s in sorted(left_out)),
@@ -552,8 +586,9 @@ def merge_setups(setups, results, freq_rtol=None, mac_min=0.8, min_setups=None, 
             "mpc": float(modal_phase_collinearity(known[:, None])[0]) if known.size else np.nan,
             "n_nodes": len(per_node), "n_flagged": len(flags), "flag": flag,
         })
-    mode_columns = ["mode", "freq_hz", "freq_spread_hz", "damping", "damping_spread", "n_setups", "n_from_diagram",
-                    "setups", "left_out", "ref_mac", "mpc", "n_nodes", "n_flagged", "flag"]
+    mode_columns = ["mode", "freq_hz", "freq_std_hz", "freq_spread_hz", "damping", "damping_std", "damping_spread",
+                    "n_setups", "n_from_diagram", "setups", "left_out", "ref_mac", "mpc", "n_nodes", "n_flagged",
+                    "flag"]
     shape_columns = ["mode", "node", "x", "y", "z", "x_im", "y_im", "z_im", "flag"]
     match_columns = ["mode", "setup", "setup_mode", "source", "status", "reason", "freq_hz", "damping", "ref_mac",
                      "ref_share", "scale"]

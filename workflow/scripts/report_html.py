@@ -39,7 +39,8 @@ for name, spec in sorted((snakemake.params.measured or {}).items()):
             caption=(f"{len(spec['setups'])} setups ({spec['excitation'].replace('_', ' ')}) identified one by one "
                      "and merged through their reference channels, as `modal identify SETUP ... --geometry` does: "
                      "each mode drawn on the geometry (undeformed dashed, measured nodes red); the table gives "
-                     "frequency and damping (mean and spread over the setups that selected the mode), the setups "
+                     "frequency and damping (mean over the setups that selected the mode, the standard deviation "
+                     "of that mean and the setups' spread), the setups "
                      "that selected it or held it in their diagram, the smallest reference MAC and the MPC."),
         ))
         continue

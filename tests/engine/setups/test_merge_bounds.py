@@ -346,6 +346,8 @@ def test_a_merged_complex_mode_keeps_the_truths_phase_collinearity():
     assert list(alone.modes["n_setups"]) == [1, 1, 1]
     assert alone.modes[["freq_spread_hz", "damping_spread", "ref_mac"]].isna().all().all()
     np.testing.assert_array_equal(alone.modes["freq_hz"], results[0].modes["freq_hz"])
+    np.testing.assert_array_equal(alone.modes["freq_std_hz"], results[0].modes["freq_std_hz"])  # its own
+    assert alone.modes["damping_std"].isna().all()  # none of its own, no spread
 
 
 @pytest.mark.parametrize("freq_rtol, n_modes", [(None, 3), (0.01, 3), (0.002, 6)])

@@ -476,6 +476,25 @@ def test_a_constant_frequency_ratio_is_found():
     assert rate_ratio([1.0, 2.0], [10.0, 20.0])[1] == 0  # beyond 5 x: not a rate
 
 
+@pytest.mark.parametrize("estimates, stds, expected", [
+    ([2.0], [0.01], 0.01),  # one setup: its own
+    ([2.0], [np.nan], np.nan),  # one setup without its own: unknown
+    ([1.0, 1.0, 1.0], [0.3, 0.4, 1.2], 1.3 / 3),  # they agree: the internal sqrt(sum sigma^2) / n
+    ([1.0, 1.2], [0.01, 0.01], 0.1),  # they disagree beyond their noise: std(ddof=1) / sqrt(n)
+    ([1.0, 1.2], [0.01, np.nan], 0.1),  # one setup's own unknown: the spread alone
+    ([1.0, 1.02, 0.98], [0.1, 0.1, 0.1], np.sqrt(0.03) / 3),  # noise above the spread: internal
+])
+def test_std_of_the_mean_over_setups(estimates, stds, expected):
+    """The standard deviation of the mean of the setups' estimates: the
+    larger of the internal (from each setup's own) and the external (from
+    their spread, ddof 1) one; a slip (ddof 0, n for sqrt(n), the smaller of
+    the two) changes every case with two setups or more."""
+    from modal.setups._merge import std_of_mean
+
+    got = std_of_mean(estimates, stds)
+    assert (np.isnan(got) and np.isnan(expected)) or got == pytest.approx(expected, rel=1e-12)
+
+
 def test_the_merged_tables_hold_the_setups_statistics_and_directions():
     """modes.csv: mean and spread (ddof 1) of the selected frequencies and
     dampings, the smallest reference MAC, MPC 1 for real modes, the nodes;
@@ -495,6 +514,10 @@ def test_the_merged_tables_hold_the_setups_statistics_and_directions():
     np.testing.assert_allclose(merged.modes["freq_spread_hz"], freqs.std(axis=0, ddof=1))
     np.testing.assert_allclose(merged.modes["damping"], [0.011, 0.02, 0.028])
     np.testing.assert_allclose(merged.modes["damping_spread"], [0.001, 0.0, 0.002], atol=1e-12)
+    # the mean's std: the setups' own (0.4 % each) over n, far above their 1e-4 scatter; no damping std of their
+    # own, so the dampings' spread over sqrt(n)
+    np.testing.assert_allclose(merged.modes["freq_std_hz"], np.sqrt(np.sum((0.004 * freqs) ** 2, axis=0)) / 3)
+    np.testing.assert_allclose(merged.modes["damping_std"], np.array([0.001, 0.0, 0.002]) / np.sqrt(3), atol=1e-12)
     np.testing.assert_allclose(merged.modes["mpc"], 1.0)
     assert (merged.modes["ref_mac"] > 0.999999).all() and (merged.modes["n_nodes"] == 2 + 2 * 3).all()
     assert list(merged.modes["setups"]) == ["s1 s2 s3"] * 3 and (merged.modes["n_flagged"] == 0).all()
