@@ -272,3 +272,68 @@ def test_spectral_supports_efdd_is_efdd_of_the_supporting_peak():
                   (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
         assert (support["efdd_freq_hz"][k], support["efdd_damping"][k]) == modal.efdd(spectrum, here, sv_number,
                                                                                       limits)
+
+
+def synthetic(db, df=0.125, vectors=None):
+    """A :class:`modal.SingularValueSpectrum` whose singular values are the
+    curves ``db`` (n_freq, n_values) in dB (the first curve's top at 0 dB:
+    :meth:`decibels` gives them back to round-off), ``df`` apart from 0 Hz,
+    Welch segments of ``2 (n_freq - 1)`` samples; the vectors (2 channels)
+    ``e_k`` for the k-th value unless given."""
+    db = np.asarray(db, dtype=float)
+    n_freq, n_values = db.shape
+    if vectors is None:
+        vectors = np.broadcast_to(np.eye(2, n_values, dtype=complex), (n_freq, 2, n_values))
+    return modal.SingularValueSpectrum(freq_hz=df * np.arange(n_freq), values=10 ** (db / 10),
+                                       vectors=np.asarray(vectors), nperseg=2 * (n_freq - 1))
+
+
+def test_peaks_skip_the_first_two_bins_keep_their_bounds_and_go_on():
+    """A flat floor at -40 dB (df = 1/8 Hz): the first value peaks at bins 1
+    (0 dB), 20 (-30 dB on a -33 dB shelf between dips: prominence 10 dB,
+    height 3 dB above its median) 40 and 80 (-10 dB), the second at bin 2
+    (-10 dB). Bin 1 is below the first two bins and bin 20 too low, both
+    skipped, and the search goes on past them (a ``break`` would lose bins
+    40 and 80); bin 2 counts (``index <= 2`` would drop it), a peak at
+    exactly ``fmax`` or exactly ``height_db`` too. Each remaining peak stands
+    30 dB above its troughs and its median, sorted by frequency and numbered
+    from 0."""
+    db = np.full((129, 2), -40.0)
+    db[[1, 40, 80], 0] = [0.0, -10.0, -10.0]
+    db[11:30, 0], db[[19, 20, 21], 0] = -33.0, [-40.0, -30.0, -40.0]
+    db[2, 1] = -10.0
+    spectrum = synthetic(db)
+    peaks = spectrum.peaks()
+    assert list(peaks["bin"]) == [2, 40, 80] and list(peaks["sv_number"]) == [2, 1, 1]
+    assert list(peaks.index) == [0, 1, 2]
+    np.testing.assert_allclose(peaks["freq_hz"], [0.25, 5.0, 10.0])
+    for column, expected in (("db", -10.0), ("prominence_db", 30.0), ("height_db", 30.0)):
+        np.testing.assert_allclose(peaks[column], expected, atol=1e-9)
+    assert list(spectrum.peaks(fmax=10.0)["bin"]) == [2, 40, 80]
+    assert list(spectrum.peaks(fmax=9.9)["bin"]) == [2, 40]
+    exactly = float(peaks["height_db"][2])
+    assert 80 in list(spectrum.peaks(height_db=exactly)["bin"])
+    for name in ("prominence_db", "height_db"):
+        with pytest.raises(ValueError, match=f"^{name} must"):
+            spectrum.peaks(**{name: -1.0})
+
+
+def test_peak_height_is_above_the_median_of_its_own_window():
+    """V-shaped floors, a different slope either side, so that the median
+    depends on every bin of the window. The first value peaks (0 dB) at
+    20 Hz, bin 160: its window is +-40 bins (25 % of 20 Hz in 1/8 Hz bins),
+    bins 120 ... 200, not the +-10 bins of a low peak. The second peaks at
+    bin 5 (-10 dB): its window of +-10 bins is cut at bin 0, bins 0 ... 15.
+    A window a bin short or long, shifted, or of the wrong width changes
+    the median and so the height."""
+    j = np.arange(257)
+    db = np.empty((257, 2))
+    db[:, 0] = np.where(j < 160, -40 + 0.2 * (160 - j), -40 + 0.3 * (j - 160))
+    db[:, 1] = np.where(j < 5, -40 + 1.1 * (5 - j), np.minimum(-40 + 0.5 * (j - 5), -20.0))
+    db[160, 0], db[5, 1] = 0.0, -10.0
+    peaks = synthetic(db).peaks()
+    assert list(peaks["bin"]) == [5, 160] and list(peaks["sv_number"]) == [2, 1]
+    np.testing.assert_allclose(peaks["height_db"], [-10 - np.median(db[0:16, 1]), -np.median(db[120:201, 0])],
+                               atol=1e-9)
+    # by hand: the mean of -37 and -36.7 (8th and 9th of 16); 5 dB, the 41st of 0.2 a and 0.3 b (a, b = 1 ... 40)
+    np.testing.assert_allclose(peaks["height_db"], [-10 + 36.85, 40 - 5.0], atol=1e-9)
