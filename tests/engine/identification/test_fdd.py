@@ -337,3 +337,43 @@ def test_peak_height_is_above_the_median_of_its_own_window():
                                atol=1e-9)
     # by hand: the mean of -37 and -36.7 (8th and 9th of 16); 5 dB, the 41st of 0.2 a and 0.3 b (a, b = 1 ... 40)
     np.testing.assert_allclose(peaks["height_db"], [-10 + 36.85, 40 - 5.0], atol=1e-9)
+
+
+def test_supporting_peak_bounds_window_and_ties():
+    """Synthetic curves at -40 dB, df = 1/8 Hz, tolerance 1/4 Hz (two bins;
+    the prominence window +-8 bins). The first value peaks at bin 2 (the
+    lowest that counts), at bin 60 on a -5 dB shelf of bins 52 ... 68 (5 dB
+    within +-8 bins, 40 dB a bin further: not enough, unless 5 dB are asked,
+    an exact bound), and at bins 96 and 100, each exactly the tolerance from
+    12.25 Hz (the bound counts; of the tie the first, the lower, wins). The
+    second value alone peaks at bin 120: found after the first has no
+    maximum there."""
+    db = np.full((129, 2), -40.0)
+    db[52:69, 0], db[[2, 60, 96, 100], 0] = -5.0, [0.0, 0.0, -10.0, -10.0]
+    db[120, 1] = -10.0
+    spectrum = synthetic(db)
+    assert spectrum.supporting_peak(0.25, 0.25)[:2] == (2, 1)
+    assert spectrum.supporting_peak(7.5, 0.25) is None
+    shelf = spectrum.supporting_peak(7.5, 0.25, prominence_db=0.0)
+    assert shelf[:2] == (60, 1) and shelf[2] == pytest.approx(5.0, abs=1e-9)
+    assert spectrum.supporting_peak(7.5, 0.25, prominence_db=shelf[2]) == shelf
+    assert spectrum.supporting_peak(12.25, 0.25)[:2] == (96, 1)
+    assert spectrum.supporting_peak(15.0, 0.25)[:2] == (120, 2)
+
+
+def test_fdd_default_segment_for_every_record_shape():
+    """The default segment is :func:`modal.signals.welch_segment` of the
+    samples for a one-dimensional record as for a single column (the same
+    spectrum), down to a record of two samples (one segment); a record of
+    one sample is refused by the spectral density, which names the reason,
+    and so is a count of values below one."""
+    y = np.random.default_rng(4).standard_normal(3000)
+    column = modal.fdd(y[:, None], 0.01)
+    flat = modal.fdd(y, 0.01)
+    assert column.nperseg == flat.nperseg == modal.signals.welch_segment(3000) == 256
+    np.testing.assert_array_equal(flat.values, column.values)
+    assert modal.fdd(y[:2], 0.01).nperseg == 2
+    with pytest.raises(ValueError, match="^y needs at least 2 samples"):
+        modal.fdd(np.ones((1, 2)), 0.01)
+    with pytest.raises(ValueError, match="^n_values must"):
+        modal.fdd(y, 0.01, n_values=0)
