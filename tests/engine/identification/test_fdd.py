@@ -147,6 +147,9 @@ def test_a_mode_far_from_any_peak_has_no_support():
     tolerance = modal.identification._fdd.support_tolerance_hz(
         [1.0, 2.0, 2.0, 9.0, 3.0], [0.0, 0.3, np.nan, 0.01, 0.08], df)
     np.testing.assert_allclose(tolerance, [2 * df, 0.1 * 2.0, 2 * df, max(2 * df, 0.09), 0.24])
+    # a missing damping (None, as a column of objects holds it) counts as NaN: bins only
+    np.testing.assert_allclose(modal.identification._fdd.support_tolerance_hz([3.0, 3.0], [None, 0.05], df),
+                               [2 * df, 0.15])
 
 
 def rayleigh(zeta):
@@ -203,6 +206,7 @@ def test_auto_mac_of_known_vectors():
     assert matrix[2, 3] == pytest.approx(0.5)
     assert matrix[2, 4] == pytest.approx(1.0)  # a multiple
     assert modal.auto_mac(np.empty((3, 0))).shape == (0, 0)
+    np.testing.assert_allclose(modal.auto_mac(np.array([[1.0], [2j], [0.0]])), [[1.0]])  # one mode, not none
     with pytest.raises(ValueError, match="shapes must be"):
         modal.auto_mac(np.ones(3))
 
@@ -377,3 +381,113 @@ def test_fdd_default_segment_for_every_record_shape():
         modal.fdd(np.ones((1, 2)), 0.01)
     with pytest.raises(ValueError, match="^n_values must"):
         modal.fdd(y, 0.01, n_values=0)
+
+
+def test_singular_vectors_are_the_eigenvectors_of_the_two_largest_values():
+    """Three correlated channels: at every frequency the two kept values are
+    the two largest eigenvalues of ``G`` (descending) and each vector
+    satisfies ``G v = s v``, unit norm, its largest entry real and positive.
+    The third (smallest) vector in place of the second, a conjugated or
+    unrotated vector, would break one of these."""
+    rng = np.random.default_rng(5)
+    y = rng.standard_normal((4096, 3)) @ np.array([[1.0, 0.5, 0.2], [0.0, 1.0, 0.7], [0.0, 0.0, 1.0]])
+    y[:, 2] += np.roll(y[:, 0], 2)
+    spectrum = modal.fdd(y, 0.01, nperseg=128)
+    _, g = modal.spectral_density(y, 0.01, nperseg=128)
+    assert spectrum.values.shape == (65, 2) and spectrum.vectors.shape == (65, 3, 2)
+    np.testing.assert_allclose(spectrum.values, np.linalg.eigvalsh(g)[:, ::-1][:, :2], rtol=1e-10)
+    v = spectrum.vectors
+    np.testing.assert_allclose(np.einsum("fij,fjk->fik", g, v), v * spectrum.values[:, None, :],
+                               atol=1e-10 * spectrum.values.max())
+    np.testing.assert_allclose(np.linalg.norm(v, axis=1), 1.0, rtol=1e-12)
+    largest = np.take_along_axis(v, np.argmax(np.abs(v), axis=1)[:, None, :], axis=1)
+    np.testing.assert_allclose(largest.imag, 0.0, atol=1e-12)
+    assert np.all(largest.real > 0)
+
+
+def bells(modes):
+    """One channel's spectrum (every vector alike, MAC 1) of ``modes``,
+    pairs of frequency (Hz) and damping ratio, of equal static response,
+    ``df = 1/80`` Hz up to 6.4 Hz."""
+    f = 0.0125 * np.arange(513)
+    s = sum(np.abs(fn**2 / (fn**2 - f**2 + 2j * zeta * fn * f)) ** 2 for fn, zeta in modes)
+    return synthetic(10 * np.log10(s / s.max())[:, None], df=0.0125)
+
+
+#: 2.7 and 3.0125 Hz damped 1 %, 4.8 Hz damped 4 %: peaks at bins 216, 241 and 383.
+THREE_BELLS = ((2.7, 0.01), (3.0125, 0.01), (4.8, 0.04))
+
+
+def test_each_modes_efdd_bell_ends_half_way_to_the_neighbouring_peaks():
+    """Three close bells in one channel, where only the limits end a bell:
+    the lowest mode's runs from bin 1 to 228 (half-way to bin 241, rounded
+    down), the middle one's from 229 (half-way to 216, plus one) to 312, the
+    highest one's from 313 to the last bin, 512. spectral_support's EFDD is
+    exactly that of these limits, and a limit one bin off (or two) gives
+    another: the limits matter here. Each EFDD lies within 0.5 % of the
+    mode's frequency and 10 % of its damping."""
+    spectrum = bells(THREE_BELLS)
+    assert list(spectrum.peaks()["bin"]) == [216, 241, 383]
+    freq_hz, zeta = np.array(THREE_BELLS).T
+    support = modal.spectral_support(spectrum, freq_hz, np.eye(2)[[0, 0, 0]].T, damping=zeta)
+    assert support["spectral_support"].all() and np.allclose(support["sv_mac"], 1.0)
+    for m, (peak, limits, off) in enumerate([(216, (1, 228), (1, 229)), (241, (229, 312), (227, 312)),
+                                             (383, (313, 512), (313, 511))]):
+        expected = modal.efdd(spectrum, peak, 1, limits)
+        assert (support["efdd_freq_hz"][m], support["efdd_damping"][m]) == expected
+        assert modal.efdd(spectrum, peak, 1, off) != expected
+    np.testing.assert_allclose(support["efdd_freq_hz"], freq_hz, rtol=0.005)
+    np.testing.assert_allclose(support["efdd_damping"], zeta, rtol=0.1)
+
+
+def test_spectral_support_without_damping_or_modes():
+    """Without damping the tolerance is two bins (1/40 Hz): 2.725 Hz is
+    supported by the peak at 2.7 Hz, 2.7375 Hz (three bins off) is not; a
+    frame of unsupported modes keeps float columns; no modes give an empty
+    frame with the columns; a NaN frequency is refused by name."""
+    spectrum = bells(THREE_BELLS)
+    shapes = np.eye(2)[[0, 0]].T
+    support = modal.spectral_support(spectrum, [2.725, 2.7375], shapes)
+    assert list(support["spectral_support"]) == [True, False] and list(support["sv_number"]) == [1, 0]
+    none = modal.spectral_support(spectrum, [1.0, 5.5], shapes)
+    assert not none["spectral_support"].any()
+    for column in ("sv_peak_hz", "sv_mac", "efdd_freq_hz", "efdd_damping"):
+        assert none[column].dtype == float and none[column].isna().all()
+    empty = modal.spectral_support(spectrum, [], np.empty((2, 0)))
+    assert empty.empty and list(empty.columns) == modal.identification._fdd.SUPPORT_COLUMNS
+    with pytest.raises(ValueError, match="^freq_hz"):
+        modal.spectral_support(spectrum, [np.nan], shapes[:, :1])
+
+
+def test_the_lowest_modes_bell_starts_at_bin_1():
+    """A single mode at 0.3 Hz damped 10 % (peak at bin 24): its bell,
+    within 20 dB of the peak, reaches down to bin 1 (bin 0, the mean, never
+    counts), and spectral_support's EFDD is that of limits (1, 512), not
+    (2, 512)."""
+    spectrum = bells([(0.3, 0.1)])
+    support = modal.spectral_support(spectrum, [0.3], np.eye(2)[:, :1], damping=[0.1])
+    expected = modal.efdd(spectrum, 24, 1, (1, 512))
+    assert (support["efdd_freq_hz"][0], support["efdd_damping"][0]) == expected
+    assert modal.efdd(spectrum, 24, 1, (2, 512)) != expected
+    assert expected[0] == pytest.approx(0.3, rel=0.005) and expected[1] == pytest.approx(0.1, rel=0.1)
+
+
+def test_decibels_and_resolution_of_a_small_spectrum():
+    """Values 4, 2 and 1 (and 1, 0.5 and 0) at 1, 1.25 and 1.5 Hz (a band
+    cut from a spectrum): 0, -3.01 and -6.02 dB relative to the largest first
+    value (a zero value -300 dB, silently), ``df`` the spacing 0.25 Hz (not
+    the sum of the first two frequencies); a single bin has no resolution."""
+    import warnings
+
+    values = np.array([[4.0, 1.0], [2.0, 0.5], [1.0, 0.0]])
+    spectrum = modal.SingularValueSpectrum(freq_hz=np.array([1.0, 1.25, 1.5]), values=values,
+                                           vectors=np.ones((3, 2, 2), dtype=complex), nperseg=8)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        db = spectrum.decibels()
+    three = 10 * np.log10(2)
+    np.testing.assert_allclose(db, [[0.0, -2 * three], [-three, -3 * three], [-2 * three, -300.0]], atol=1e-12)
+    assert spectrum.df == 0.25
+    single = modal.SingularValueSpectrum(freq_hz=np.array([1.0]), values=values[:1], vectors=np.ones((1, 2, 2)),
+                                         nperseg=8)
+    assert np.isnan(single.df)
