@@ -473,21 +473,47 @@ def test_the_lowest_modes_bell_starts_at_bin_1():
 
 
 def test_decibels_and_resolution_of_a_small_spectrum():
-    """Values 4, 2 and 1 (and 1, 0.5 and 0) at 1, 1.25 and 1.5 Hz (a band
-    cut from a spectrum): 0, -3.01 and -6.02 dB relative to the largest first
-    value (a zero value -300 dB, silently), ``df`` the spacing 0.25 Hz (not
-    the sum of the first two frequencies); a single bin has no resolution."""
+    """Values 1/2, 1/4 and 1/8 (and 1/8, 1/16 and 0) at 1, 1.25 and 1.5 Hz (a
+    band cut from a spectrum): 0, -3.01 and -6.02 dB relative to the largest
+    first value, below 1 (a zero value -300 dB, silently; all zero, all -300
+    dB), ``df`` the spacing 0.25 Hz (not the sum of the first two
+    frequencies); a single bin has no resolution."""
     import warnings
 
-    values = np.array([[4.0, 1.0], [2.0, 0.5], [1.0, 0.0]])
-    spectrum = modal.SingularValueSpectrum(freq_hz=np.array([1.0, 1.25, 1.5]), values=values,
-                                           vectors=np.ones((3, 2, 2), dtype=complex), nperseg=8)
+    def spectrum(values):
+        n = len(values)
+        return modal.SingularValueSpectrum(freq_hz=np.array([1.0, 1.25, 1.5])[:n], values=np.array(values),
+                                           vectors=np.ones((n, 2, 2), dtype=complex), nperseg=8)
+
+    small = spectrum([[0.5, 0.125], [0.25, 0.0625], [0.125, 0.0]])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        db = spectrum.decibels()
+        db, zero = small.decibels(), spectrum(np.zeros((3, 2))).decibels()
     three = 10 * np.log10(2)
     np.testing.assert_allclose(db, [[0.0, -2 * three], [-three, -3 * three], [-2 * three, -300.0]], atol=1e-12)
-    assert spectrum.df == 0.25
-    single = modal.SingularValueSpectrum(freq_hz=np.array([1.0]), values=values[:1], vectors=np.ones((1, 2, 2)),
-                                         nperseg=8)
-    assert np.isnan(single.df)
+    np.testing.assert_array_equal(zero, -300.0)
+    assert small.df == 0.25
+    assert np.isnan(spectrum([[1.0, 0.5]]).df)
+
+
+def test_refined_frequency_is_the_vertex_of_a_parabolic_peak():
+    """Curves parabolic in dB (a Gaussian peak), df = 1/8 Hz: the first
+    value's vertex at bin 40.24 (5.03 Hz), the second's, 20 dB lower, at bin
+    80.7 (10.0875 Hz), a third's and a fourth's next to either end, at bins
+    1.3 and 127.4. The parabola through the three bins around each maximum
+    gives the vertex exactly, each from its own curve (the other curve, a
+    sign or a factor slipped would not), at bins 1 and 127 too; at either end
+    of the spectrum, and where the curve is flat (clipped at -300 dB), the
+    bin's own frequency."""
+    j = np.arange(129)
+    db = -0.5 * (j[:, None] - np.array([40.24, 80.7, 1.3, 127.4])) ** 2 - [0.0, 20.0, 20.0, 20.0]
+    spectrum = synthetic(db)
+    assert spectrum.refined_hz(40) == pytest.approx(5.03, abs=1e-9)
+    assert spectrum.refined_hz(40, sv_number=1) == pytest.approx(5.03, abs=1e-9)
+    assert spectrum.refined_hz(81, sv_number=2) == pytest.approx(10.0875, abs=1e-9)
+    assert spectrum.refined_hz(1, sv_number=3) == pytest.approx(1.3 * 0.125, abs=1e-9)
+    assert spectrum.refined_hz(127, sv_number=4) == pytest.approx(127.4 * 0.125, abs=1e-9)
+    peaks = spectrum.peaks()
+    np.testing.assert_allclose(peaks["freq_hz"][peaks["sv_number"] <= 2], [5.03, 10.0875], atol=1e-9)
+    assert spectrum.decibels()[126, 0] == spectrum.decibels()[127, 0] == -300.0
+    assert [spectrum.refined_hz(i) for i in (0, 127, 128)] == [0.0, 127 * 0.125, 128 * 0.125]
