@@ -463,12 +463,13 @@ def test_the_lowest_modes_bell_starts_at_bin_1():
     """A single mode at 0.3 Hz damped 10 % (peak at bin 24): its bell,
     within 20 dB of the peak, reaches down to bin 1 (bin 0, the mean, never
     counts), and spectral_support's EFDD is that of limits (1, 512), not
-    (2, 512)."""
+    (2, 512), which are :func:`modal.efdd`'s defaults for the first value."""
     spectrum = bells([(0.3, 0.1)])
     support = modal.spectral_support(spectrum, [0.3], np.eye(2)[:, :1], damping=[0.1])
     expected = modal.efdd(spectrum, 24, 1, (1, 512))
     assert (support["efdd_freq_hz"][0], support["efdd_damping"][0]) == expected
     assert modal.efdd(spectrum, 24, 1, (2, 512)) != expected
+    assert modal.efdd(spectrum, 24) == expected  # the defaults: the first value, the whole spectrum
     assert expected[0] == pytest.approx(0.3, rel=0.005) and expected[1] == pytest.approx(0.1, rel=0.1)
 
 
@@ -517,3 +518,16 @@ def test_refined_frequency_is_the_vertex_of_a_parabolic_peak():
     np.testing.assert_allclose(peaks["freq_hz"][peaks["sv_number"] <= 2], [5.03, 10.0875], atol=1e-9)
     assert spectrum.decibels()[126, 0] == spectrum.decibels()[127, 0] == -300.0
     assert [spectrum.refined_hz(i) for i in (0, 127, 128)] == [0.0, 127 * 0.125, 128 * 0.125]
+
+
+def test_window_correlation_of_the_periodic_hann_window():
+    """The periodic Hann window of 4 samples is 0, 1/2, 1, 1/2 (the
+    symmetric one 0, 3/4, 3/4, 0): sum of squares 3/2, lag products 1, 1/4
+    and 0, so its autocorrelation at lags 0 ... 3 is 1, 2/3, 1/6, 0. A
+    symmetric window, a lag shifted or the power multiplied would not give
+    these; and :func:`modal.efdd` numbers the values from 1."""
+    from modal.identification._fdd import _window_correlation
+
+    np.testing.assert_allclose(_window_correlation(4), [1.0, 2 / 3, 1 / 6, 0.0], atol=1e-15)
+    with pytest.raises(ValueError, match="^sv_number must"):
+        modal.efdd(bells([(0.3, 0.1)]), 24, sv_number=0)
