@@ -531,3 +531,46 @@ def test_window_correlation_of_the_periodic_hann_window():
     np.testing.assert_allclose(_window_correlation(4), [1.0, 2 / 3, 1 / 6, 0.0], atol=1e-15)
     with pytest.raises(ValueError, match="^sv_number must"):
         modal.efdd(bells([(0.3, 0.1)]), 24, sv_number=0)
+
+
+def designed_bell():
+    """Three channels, df = 1/8 Hz: a first value with a Lorentzian peak at
+    bin 100 (12.5 Hz, half-power half-width 2 bins, 1 at the top) whose
+    vector is ``u = [1, i, 0] / sqrt(2)`` on bins 88 ... 115, except a MAC
+    of 0.85 with ``u`` at bin 103 and of 0.81 at bin 115;
+    bin 88 set to exactly 1 % of the peak (-20 dB), bin 87 to 5 % but with
+    the conjugate ``conj(u)`` (MAC 0 with ``u``, 1 with ``u^T`` in place of
+    ``u^H``), bin 116 to 0.1 % with ``u``, every other bin ``conj(u)``. The
+    second value, 1000 times lower, has ``[0, 0, 1]`` (MAC 0). Its bell is
+    bins 88 ... 115, exactly."""
+    j = np.arange(257)
+    values = np.zeros((257, 2))
+    values[:, 0] = 1 / (1 + ((j - 100) / 2) ** 2)
+    values[[87, 88, 116], 0] = [0.05, 10 ** (-20 / 10), 0.001]
+    values[:, 1] = values[:, 0] / 1000
+    u = np.array([1, 1j, 0]) / np.sqrt(2)
+    w = np.array([0, 0, 1.0])
+    vectors = np.empty((257, 3, 2), dtype=complex)
+    vectors[:, :, 0], vectors[:, :, 1] = u.conj(), w
+    vectors[88:117, :, 0] = u
+    for b, mac in ((103, 0.85), (115, 0.81)):
+        vectors[b, :, 0] = np.sqrt(mac) * u + np.sqrt(1 - mac) * w
+    return synthetic(10 * np.log10(values), vectors=vectors)
+
+
+def test_efdd_bell_is_where_a_vector_is_alike_and_the_value_within_20_db():
+    """The designed bell: EFDD without limits is exactly EFDD on bins
+    88 ... 115 (wider limits change nothing), and a bin less on either side
+    gives another answer, so every rule counts: MAC at least 0.8 with the peak's vector
+    (``u^H v``, squared: 0.85 passes, a cube would not), the value at least
+    1 % of the peak's (a bin at exactly 1 % counts, a bin above it with the
+    conjugate shape or one with the shape below it ends the bell), and a
+    limit inside the bell is where it stops. The frequency lies within 1 %
+    of 12.5 Hz."""
+    spectrum = designed_bell()
+    bell = modal.efdd(spectrum, 100, 1, (88, 115))
+    assert modal.efdd(spectrum, 100) == bell
+    for limits in ((89, 115), (88, 114)):  # a bin less on either side
+        assert modal.efdd(spectrum, 100, 1, limits) != bell, limits
+    assert modal.efdd(spectrum, 100, 1, (87, 116)) == bell  # bins 87 and 116 are not in it
+    assert bell[0] == pytest.approx(12.5, rel=0.01) and bell[1] > 0
