@@ -278,18 +278,18 @@ def test_spectral_supports_efdd_is_efdd_of_the_supporting_peak():
                                                                                       limits)
 
 
-def synthetic(db, df=0.125, vectors=None):
+def synthetic(db, df=0.125, vectors=None, nperseg=None):
     """A :class:`modal.SingularValueSpectrum` whose singular values are the
     curves ``db`` (n_freq, n_values) in dB (the first curve's top at 0 dB:
     :meth:`decibels` gives them back to round-off), ``df`` apart from 0 Hz,
-    Welch segments of ``2 (n_freq - 1)`` samples; the vectors (2 channels)
-    ``e_k`` for the k-th value unless given."""
+    Welch segments of ``2 (n_freq - 1)`` samples unless given; the vectors
+    (2 channels) ``e_k`` for the k-th value unless given."""
     db = np.asarray(db, dtype=float)
     n_freq, n_values = db.shape
     if vectors is None:
         vectors = np.broadcast_to(np.eye(2, n_values, dtype=complex), (n_freq, 2, n_values))
     return modal.SingularValueSpectrum(freq_hz=df * np.arange(n_freq), values=10 ** (db / 10),
-                                       vectors=np.asarray(vectors), nperseg=2 * (n_freq - 1))
+                                       vectors=np.asarray(vectors), nperseg=nperseg or 2 * (n_freq - 1))
 
 
 def test_peaks_skip_the_first_two_bins_keep_their_bounds_and_go_on():
@@ -405,13 +405,14 @@ def test_singular_vectors_are_the_eigenvectors_of_the_two_largest_values():
     assert np.all(largest.real > 0)
 
 
-def bells(modes):
+def bells(modes, nperseg=1024):
     """One channel's spectrum (every vector alike, MAC 1) of ``modes``,
     pairs of frequency (Hz) and damping ratio, of equal static response,
-    ``df = 1/80`` Hz up to 6.4 Hz."""
-    f = 0.0125 * np.arange(513)
+    sampled at 12.8 Hz in segments of ``nperseg`` (``df = 1/80`` Hz by
+    default, up to 6.4 Hz)."""
+    f = 12.8 / nperseg * np.arange(nperseg // 2 + 1)
     s = sum(np.abs(fn**2 / (fn**2 - f**2 + 2j * zeta * fn * f)) ** 2 for fn, zeta in modes)
-    return synthetic(10 * np.log10(s / s.max())[:, None], df=0.0125)
+    return synthetic(10 * np.log10(s / s.max())[:, None], df=12.8 / nperseg, nperseg=nperseg)
 
 
 #: 2.7 and 3.0125 Hz damped 1 %, 4.8 Hz damped 4 %: peaks at bins 216, 241 and 383.
@@ -574,3 +575,22 @@ def test_efdd_bell_is_where_a_vector_is_alike_and_the_value_within_20_db():
         assert modal.efdd(spectrum, 100, 1, limits) != bell, limits
     assert modal.efdd(spectrum, 100, 1, (87, 116)) == bell  # bins 87 and 116 are not in it
     assert bell[0] == pytest.approx(12.5, rel=0.01) and bell[1] > 0
+
+
+def test_efdd_of_odd_and_even_segments_and_of_a_bell_up_to_the_last_bin():
+    """A bell at 2.7 Hz damped 1 % in segments of 1024 and of 1023 samples
+    (the lag is then ``1 / (df n)``, the correlation ``n`` samples long, not
+    ``2 (n_freq - 1)``): EFDD within 0.05 % of the frequency either way (a
+    lag or a length one sample off is 0.1 %). A bell at 4.8 Hz damped 4 %
+    runs up to the last bin, 512: the default limits and limits beyond the
+    spectrum take it in, one bin less does not."""
+    for nperseg in (1024, 1023):
+        spectrum = bells([(2.7, 0.01)], nperseg=nperseg)
+        peak = int(spectrum.peaks()["bin"][0])
+        freq_hz, damping = modal.efdd(spectrum, peak)
+        assert freq_hz == pytest.approx(2.7, rel=5e-4), nperseg
+        assert damping == pytest.approx(0.01, rel=0.1), nperseg
+    spectrum = bells([(4.8, 0.04)])
+    whole = modal.efdd(spectrum, 383)
+    assert whole == modal.efdd(spectrum, 383, 1, (1, 512)) == modal.efdd(spectrum, 383, 1, (1, 600))
+    assert modal.efdd(spectrum, 383, 1, (1, 511)) != whole
