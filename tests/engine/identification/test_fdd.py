@@ -606,3 +606,15 @@ def test_efdd_needs_three_extrema_of_the_correlation():
     freq_hz, damping = modal.efdd(enough, int(np.argmax(enough.values[:, 0])))
     assert freq_hz == pytest.approx(2.0, rel=0.01) and damping == pytest.approx(0.2, rel=0.1)
     assert np.isnan(modal.efdd(too_few, int(np.argmax(too_few.values[:, 0])))).all()
+
+
+def test_efdd_of_a_silent_spectrum_is_nan_silently():
+    """All values zero: the bell and its correlation are zero, so EFDD is
+    NaN for both, with no warning (dividing by the zero correlation at lag 0
+    would warn and go on with NaNs)."""
+    import warnings
+
+    spectrum = synthetic(np.full((129, 1), -np.inf))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.isnan(modal.efdd(spectrum, 50)).all()
