@@ -479,7 +479,7 @@ def test_decibels_and_resolution_of_a_small_spectrum():
     band cut from a spectrum): 0, -3.01 and -6.02 dB relative to the largest
     first value, below 1 (a zero value -300 dB, silently; all zero, all -300
     dB), ``df`` the spacing 0.25 Hz (not the sum of the first two
-    frequencies); a single bin has no resolution."""
+    frequencies), from two bins on; a single bin has no resolution."""
     import warnings
 
     def spectrum(values):
@@ -494,7 +494,7 @@ def test_decibels_and_resolution_of_a_small_spectrum():
     three = 10 * np.log10(2)
     np.testing.assert_allclose(db, [[0.0, -2 * three], [-three, -3 * three], [-2 * three, -300.0]], atol=1e-12)
     np.testing.assert_array_equal(zero, -300.0)
-    assert small.df == 0.25
+    assert small.df == spectrum([[1.0, 0.5], [0.5, 0.25]]).df == 0.25  # two bins are enough
     assert np.isnan(spectrum([[1.0, 0.5]]).df)
 
 
