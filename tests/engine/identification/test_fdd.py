@@ -540,21 +540,21 @@ def designed_bell():
     vector is ``u = [1, i, 0] / sqrt(2)`` on bins 88 ... 115, except a MAC
     of 0.85 with ``u`` at bin 103 and of 0.81 at bin 115;
     bin 88 set to exactly 1 % of the peak (-20 dB), bin 87 to 5 % but with
-    the conjugate ``conj(u)`` (MAC 0 with ``u``, 1 with ``u^T`` in place of
-    ``u^H``), bin 116 to 0.1 % with ``u``, every other bin ``conj(u)``. The
-    second value, 1000 times lower, has ``[0, 0, 1]`` (MAC 0). Its bell is
-    bins 88 ... 115, exactly."""
+    a MAC of 0.5, bin 116 to 0.9 % with ``u``, every other bin the conjugate
+    ``conj(u)`` (MAC 0 with ``u``, 1 with ``u^T`` in place of ``u^H``). The
+    second value, 1000 times lower, has ``w = [0, 0, 1]`` (MAC 0). Its bell
+    is bins 88 ... 115, exactly."""
     j = np.arange(257)
     values = np.zeros((257, 2))
     values[:, 0] = 1 / (1 + ((j - 100) / 2) ** 2)
-    values[[87, 88, 116], 0] = [0.05, 10 ** (-20 / 10), 0.001]
+    values[[87, 88, 116], 0] = [0.05, 10 ** (-20 / 10), 0.009]
     values[:, 1] = values[:, 0] / 1000
     u = np.array([1, 1j, 0]) / np.sqrt(2)
     w = np.array([0, 0, 1.0])
     vectors = np.empty((257, 3, 2), dtype=complex)
     vectors[:, :, 0], vectors[:, :, 1] = u.conj(), w
     vectors[88:117, :, 0] = u
-    for b, mac in ((103, 0.85), (115, 0.81)):
+    for b, mac in ((87, 0.5), (103, 0.85), (115, 0.81)):
         vectors[b, :, 0] = np.sqrt(mac) * u + np.sqrt(1 - mac) * w
     return synthetic(10 * np.log10(values), vectors=vectors)
 
@@ -563,11 +563,12 @@ def test_efdd_bell_is_where_a_vector_is_alike_and_the_value_within_20_db():
     """The designed bell: EFDD without limits is exactly EFDD on bins
     88 ... 115 (wider limits change nothing), and a bin less on either side
     gives another answer, so every rule counts: MAC at least 0.8 with the peak's vector
-    (``u^H v``, squared: 0.85 passes, a cube would not), the value at least
-    1 % of the peak's (a bin at exactly 1 % counts, a bin above it with the
-    conjugate shape or one with the shape below it ends the bell), and a
-    limit inside the bell is where it stops. The frequency lies within 1 %
-    of 12.5 Hz."""
+    (``|u^H v|`` squared: 0.85 passes, a cube would not, 0.5 does not, twice
+    ``|u^H v|`` would), the value at least 1 % of the peak's (a bin at
+    exactly 1 % counts, a bin above it with another shape or one with the
+    shape at 0.9 % ends the bell: 11**-2 in place of 10**-2 would take it),
+    and a limit inside the bell is where it stops. The frequency lies within
+    1 % of 12.5 Hz."""
     spectrum = designed_bell()
     bell = modal.efdd(spectrum, 100, 1, (88, 115))
     assert modal.efdd(spectrum, 100) == bell
@@ -618,3 +619,14 @@ def test_efdd_of_a_silent_spectrum_is_nan_silently():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert np.isnan(modal.efdd(spectrum, 50)).all()
+
+
+def test_efdd_of_a_flat_bell_is_its_centre():
+    """A flat bell (one channel) on bins 90 ... 110, 40 dB above the rest:
+    its correlation is the cosine of the centre, 12.5 Hz, under the
+    Dirichlet kernel of 21 bins, so EFDD's frequency is 12.5 Hz (within
+    0.05 %, measured 0.007 %); a band two bins short on either side, or
+    bins added, moves the centre by a bin, 1 %."""
+    db = np.full((257, 1), -40.0)
+    db[90:111, 0] = 0.0
+    assert modal.efdd(synthetic(db), 100)[0] == pytest.approx(12.5, rel=5e-4)
