@@ -630,3 +630,13 @@ def test_efdd_of_a_flat_bell_is_its_centre():
     db = np.full((257, 1), -40.0)
     db[90:111, 0] = 0.0
     assert modal.efdd(synthetic(db), 100)[0] == pytest.approx(12.5, rel=5e-4)
+
+
+def test_efdd_of_a_beating_bell_is_nan():
+    """A bell (one channel) of two lines, 1 at bin 50 and 1/2 at bin 55,
+    joined by bins at 1.1 % (all within 20 dB): its correlation beats, its
+    envelope never falls to 0.1 and its extrema fit a growing line, so EFDD
+    gives NaN for both rather than a negative damping."""
+    db = np.full((257, 1), -40.0)
+    db[50:56, 0] = 10 * np.log10([1.0, 0.011, 0.011, 0.011, 0.011, 0.5])
+    assert np.isnan(modal.efdd(synthetic(db), 50)).all()
