@@ -1,7 +1,12 @@
 """Frequency domain decomposition, the spectral witness of `modal identify`:
 the spectral density matrix's convention (a transposed or conjugated matrix
 gives conjugated shapes), its singular values' peaks at the closed-form
-frequencies of a simulated 2-DOF system, the support check and the auto-MAC."""
+frequencies of a simulated 2-DOF system, the support check and the auto-MAC;
+and, on spectra built in closed form, the rules of the peaks, the support and
+the EFDD bell bin by bin (the tests of the mutation run,
+``benchmarks/mutation_witness.py``)."""
+
+import warnings
 
 import numpy as np
 import pytest
@@ -480,8 +485,6 @@ def test_decibels_and_resolution_of_a_small_spectrum():
     first value, below 1 (a zero value -300 dB, silently; all zero, all -300
     dB), ``df`` the spacing 0.25 Hz (not the sum of the first two
     frequencies), from two bins on; a single bin has no resolution."""
-    import warnings
-
     def spectrum(values):
         n = len(values)
         return modal.SingularValueSpectrum(freq_hz=np.array([1.0, 1.25, 1.5])[:n], values=np.array(values),
@@ -613,8 +616,6 @@ def test_efdd_of_a_silent_spectrum_is_nan_silently():
     """All values zero: the bell and its correlation are zero, so EFDD is
     NaN for both, with no warning (dividing by the zero correlation at lag 0
     would warn and go on with NaNs)."""
-    import warnings
-
     spectrum = synthetic(np.full((129, 1), -np.inf))
     with warnings.catch_warnings():
         warnings.simplefilter("error")
