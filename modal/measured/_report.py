@@ -204,12 +204,14 @@ def identification_report(folder, result, settings: dict, title: str, steps=(), 
     return path
 
 
-def roving_report(folder, merged, setups, results, settings: dict, steps=(), warnings=(), title="Roving test") -> Path:
+def roving_report(folder, merged, setups, results, settings: dict, steps=(), warnings=(), title=None) -> Path:
     """Write ``folder/report.html`` for a roving test (``modal identify`` of
     several setups, :func:`modal.write_setups`): the merged modes, the
     per-setup summary, the shapes drawn (``modes.png`` where a geometry gave
     one), each setup's diagram, the settings and the provenance. Each
-    setup's own report is ``setups/<name>/report.html``."""
+    setup's own report is ``setups/<name>/report.html``. One record with a
+    geometry is written the same way; its page says it is one record, not
+    a roving test, and points to the record's own page."""
     folder = Path(folder)
     rows = []
     for setup, result in zip(setups, results):
@@ -232,9 +234,16 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
     per_setup = [{"heading": f"setup {s.name}: {len(r.modes)} modes",
                   "data": _image(folder / "setups" / s.name / "stabilisation.png")}
                  for s, r in zip(setups, results) if (folder / "setups" / s.name / "stabilisation.png").is_file()]
-    summary = (f"{len(setups)} setup{'s' if len(setups) != 1 else ''} merged into {len(modes)} modes "
-               f"({modes['n_setups'].sum() if len(modes) else 0} setup-modes), shapes at "
-               f"{merged.shapes['node'].nunique()} nodes.")
+    if len(setups) == 1:
+        title = title or f"{setups[0].name} on its geometry"
+        summary = (f"One record: {len(modes)} modes drawn at {merged.shapes['node'].nunique()} nodes; its "
+                   f"stabilisation diagram, MAC matrix and candidates are on its own page, "
+                   f"setups/{setups[0].name}/report.html.")
+    else:
+        title = title or "Roving test"
+        summary = (f"{len(setups)} setups merged into {len(modes)} modes "
+                   f"({modes['n_setups'].sum() if len(modes) else 0} setup-modes), shapes at "
+                   f"{merged.shapes['node'].nunique()} nodes.")
     page = _template().render(
         title=title, summary=summary, provenance=settings["provenance"], warnings=list(warnings),
         setups=table_html(table, name="setups"),

@@ -186,7 +186,9 @@ def test_two_channels_of_one_name_give_numbered_columns(written, tmp_path):
                  max_order=20)
     modes = pd.read_csv(tmp_path / "out" / "setups" / first.name / "modes.csv")
     assert [c for c in modes.columns if c.startswith("phi_")] == [f"phi_{c}" for c in channels["channel"]]
-    assert "1 setup merged into" in (tmp_path / "out" / "report.html").read_text()
+    page = (tmp_path / "out" / "report.html").read_text()
+    assert f"<h1>{first.name} on its geometry</h1>" in page and "merged" not in page.split("<h2>")[0]
+    assert "One record: " in page and f"setups/{first.name}/report.html" in page
 
 
 def png_size(path) -> tuple[int, int]:
