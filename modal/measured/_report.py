@@ -13,6 +13,7 @@ this module, its tables pandas ``Styler`` tables.
 from __future__ import annotations
 
 import base64
+import json
 from pathlib import Path
 
 import numpy as np
@@ -168,8 +169,23 @@ def identification_report(folder, result, settings: dict, title: str, steps=(), 
     warnings : sequence of str
     """
     folder = Path(folder)
+    return _write_page(folder, title=title, warnings=list(warnings), setups=None, per_setup_figures=None,
+                       steps=list(steps), **_record_sections(folder, result, settings))
+
+
+def _write_page(folder: Path, **fields) -> Path:
+    """Render the template with ``fields`` into ``folder/report.html``; its path."""
+    path = folder / "report.html"
+    path.write_text(printable(_template().render(**fields)), encoding="utf-8")
+    return path
+
+
+def _record_sections(folder, result, settings: dict) -> dict:
+    """The parts of a page about one record's identification, whose
+    pictures are in ``folder``: the summary, the modes with why each is
+    believed, the diagram and the MAC matrix, the candidates, the settings
+    and the provenance (the template's fields)."""
     modes = result.modes
-    chosen = settings.get("chosen") or {}
     n_orders = int(result.poles["order"].nunique()) if len(result.poles) else 0
     flagged = _flagged(modes)
     summary = (f"{len(modes)} modes selected" + (f", {int(flagged.sum())} of them flagged as doubtful"
@@ -191,17 +207,12 @@ def identification_report(folder, result, settings: dict, title: str, steps=(), 
     if len(modes):
         figures.append({"heading": "MAC of the selected modes", "caption": "Also in mac.csv.",
                         "data": _image(folder / "mac.png"), "kind": "png", "css": "mac"})
-    page = _template().render(
-        title=title, summary=summary, provenance=settings["provenance"], warnings=list(warnings), setups=None,
-        modes=table_html(modes, MODE_HEADINGS, flagged, name="modes") if len(modes) else "", modes_note=modes_note,
-        no_mode_reason=result.no_mode_reason(), evidence=evidence(modes, n_orders),
-        notes=list(getattr(result, "notes", ()) or ()), figures=figures, mac_table=None,
-        candidates=table_html(result.candidates, name="candidates") if len(result.candidates) else None,
-        per_setup_figures=None,
-        steps=list(steps), settings=_settings_groups(settings))
-    path = folder / "report.html"
-    path.write_text(printable(page), encoding="utf-8")
-    return path
+    return {"summary": summary, "provenance": settings["provenance"],
+            "modes": table_html(modes, MODE_HEADINGS, flagged, name="modes") if len(modes) else "",
+            "modes_note": modes_note, "no_mode_reason": result.no_mode_reason(), "evidence": evidence(modes, n_orders),
+            "notes": list(getattr(result, "notes", ()) or ()), "figures": figures, "mac_table": None,
+            "candidates": table_html(result.candidates, name="candidates") if len(result.candidates) else None,
+            "settings": _settings_groups(settings)}
 
 
 def roving_report(folder, merged, setups, results, settings: dict, steps=(), warnings=(), title=None) -> Path:
@@ -209,10 +220,29 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
     several setups, :func:`modal.write_setups`): the merged modes, the
     per-setup summary, the shapes drawn (``modes.png`` where a geometry gave
     one), each setup's diagram, the settings and the provenance. Each
-    setup's own report is ``setups/<name>/report.html``. One record with a
-    geometry is written the same way; its page says it is one record, not
-    a roving test, and points to the record's own page."""
+    setup's own report is ``setups/<name>/report.html``.
+
+    One setup (one record with a geometry or a channel table) gets one page
+    with everything about it: the record's page (:func:`identification_report`:
+    its modes with flags, uncertainty and spectral witness, diagram, MAC
+    matrix, candidates, settings) with the shapes drawn on the geometry,
+    if one was given."""
     folder = Path(folder)
+    shapes = []
+    if (folder / "modes.png").is_file():
+        shapes.append({"heading": "Shapes", "caption": "Every mode drawn on the geometry (one picture per mode in "
+                       "mode_<k>.png, animated in mode_<k>.gif; shapes.csv holds them at the nodes).",
+                       "data": _image(folder / "modes.png"), "kind": "png", "css": "shapes"})
+    if len(setups) == 1:
+        own = folder / "setups" / setups[0].name
+        sections = _record_sections(own, results[0], json.loads((own / "settings.json").read_text()))
+        if shapes:
+            sections["summary"] += f" Shapes drawn at {merged.shapes['node'].nunique()} nodes of the geometry."
+            sections["figures"][1:1] = shapes  # after the diagram, before the MAC matrix
+        sections["provenance"] = settings["provenance"]
+        return _write_page(folder, title=title or setups[0].name + (" on its geometry" if shapes else ""),
+                           warnings=list(warnings), setups=None, per_setup_figures=None, steps=list(steps),
+                           **sections)
     rows = []
     for setup, result in zip(setups, results):
         t = setup.channels
@@ -226,34 +256,19 @@ def roving_report(folder, merged, setups, results, settings: dict, steps=(), war
                      "modes_hz": ", ".join(f"{f:.4g}" for f in modes["freq_hz"])})
     table = pd.DataFrame(rows)
     modes = merged.modes
-    figures = []
-    if (folder / "modes.png").is_file():
-        figures.append({"heading": "Shapes", "caption": "Every merged mode drawn on the geometry (one picture per "
-                        "mode in mode_<k>.png, animated in mode_<k>.gif).", "data": _image(folder / "modes.png"),
-                        "kind": "png", "css": "shapes"})
     per_setup = [{"heading": f"setup {s.name}: {len(r.modes)} modes",
                   "data": _image(folder / "setups" / s.name / "stabilisation.png")}
                  for s, r in zip(setups, results) if (folder / "setups" / s.name / "stabilisation.png").is_file()]
-    if len(setups) == 1:
-        title = title or f"{setups[0].name} on its geometry"
-        summary = (f"One record: {len(modes)} modes drawn at {merged.shapes['node'].nunique()} nodes; its "
-                   f"stabilisation diagram, MAC matrix and candidates are on its own page, "
-                   f"setups/{setups[0].name}/report.html.")
-    else:
-        title = title or "Roving test"
-        summary = (f"{len(setups)} setups merged into {len(modes)} modes "
-                   f"({modes['n_setups'].sum() if len(modes) else 0} setup-modes), shapes at "
-                   f"{merged.shapes['node'].nunique()} nodes.")
-    page = _template().render(
-        title=title, summary=summary, provenance=settings["provenance"], warnings=list(warnings),
+    summary = (f"{len(setups)} setups merged into {len(modes)} modes "
+               f"({modes['n_setups'].sum() if len(modes) else 0} setup-modes), shapes at "
+               f"{merged.shapes['node'].nunique()} nodes.")
+    return _write_page(
+        folder, title=title or "Roving test", summary=summary, provenance=settings["provenance"], warnings=list(warnings),
         setups=table_html(table, name="setups"),
         modes=table_html(modes, MERGED_HEADINGS, _flagged(modes), name="modes") if len(modes) else "",
         modes_note="Frequency and damping: means over the setups that hold the mode; std: the standard deviation "
                    "of that mean, from each setup's own (over its segments) or, where larger, from the setups' "
                    "spread; spreads: the setups' standard deviations; ref. MAC: the smallest MAC of a setup's "
                    "reference channels with the consensus.",
-        no_mode_reason="", evidence=[], notes=[], figures=figures, mac_table=None, candidates=None,
+        no_mode_reason="", evidence=[], notes=[], figures=shapes, mac_table=None, candidates=None,
         per_setup_figures=per_setup, steps=list(steps), settings=_settings_groups(settings))
-    path = folder / "report.html"
-    path.write_text(printable(page), encoding="utf-8")
-    return path

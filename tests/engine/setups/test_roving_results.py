@@ -187,8 +187,28 @@ def test_two_channels_of_one_name_give_numbered_columns(written, tmp_path):
     modes = pd.read_csv(tmp_path / "out" / "setups" / first.name / "modes.csv")
     assert [c for c in modes.columns if c.startswith("phi_")] == [f"phi_{c}" for c in channels["channel"]]
     page = (tmp_path / "out" / "report.html").read_text()
+    assert f"<h1>{first.name}</h1>" in page and "Shapes" not in page  # no geometry, no shapes drawn
+
+
+def test_one_record_on_its_geometry_gets_one_page(written, tmp_path):
+    """One setup with a geometry: one page holds the record's own (its modes
+    with the witness's columns, why each is believed, the diagram, the MAC
+    matrix, the candidates) and the shapes drawn, not a roving test's."""
+    first, geometry = written["setups"][1], written["geometry"]
+    write_setups([first], tmp_path / "out", "ambient", fmax=25, max_order=20, geometry=geometry, animate=False)
+    out = tmp_path / "out"
+    page = (out / "report.html").read_text()
     assert f"<h1>{first.name} on its geometry</h1>" in page and "merged" not in page.split("<h2>")[0]
-    assert "One record: " in page and f"setups/{first.name}/report.html" in page
+    headings = re.findall(r"<h2>([^<]+)</h2>", page)
+    expected = ["Modes", "Stabilisation diagram", "Shapes", "MAC of the selected modes"]
+    assert [h for h in headings if h in expected] == expected and "Setups" not in headings
+    own = (out / "setups" / first.name / "report.html").read_text()
+    table = page.split("<h2>Modes</h2>")[1].split("<h2>")[0]
+    assert table == own.split("<h2>Modes</h2>")[1].split("<h2>")[0]  # the record's table, evidence and notes
+    assert "SV peak" in table and "Why each mode is believed" in table
+    assert ("<h2>Candidates</h2>" in page) == ("<h2>Candidates</h2>" in own)
+    nodes = pd.read_csv(out / "shapes.csv")["node"].nunique()
+    assert f"Shapes drawn at {nodes} nodes of the geometry." in page
 
 
 def png_size(path) -> tuple[int, int]:
