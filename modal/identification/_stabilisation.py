@@ -796,10 +796,12 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
     shapes (default: none alike).
 
     - ``same shape as 4.224 Hz (MAC 0.999)``: another mode within
-      ``criteria.close_rtol`` in frequency has more poles (or as many and a
-      lower frequency) and a shape of MAC at least ``criteria.mac_min`` with
-      this one's: a shadow of that mode, not a mode of its own (the
-      stronger of the two keeps no flag for it);
+      ``criteria.close_rtol`` in frequency, or closer than the sum of the
+      two modes' half-power half-widths ``zeta f`` (``zeta`` taken within
+      :data:`SIDE_BAND_ZETA`: their resonances overlap), has more poles (or
+      as many and a lower frequency) and a shape of MAC at least
+      ``criteria.mac_min`` with this one's: a shadow of that mode, not a
+      mode of its own (the stronger of the two keeps no flag for it);
 
     - ``low MPC 0.41``: MPC below ``criteria.doubtful_mpc``;
     - ``low MAMC 0.89``: MAMC below ``criteria.doubtful_mamc``;
@@ -820,11 +822,14 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
     mode_mac = np.eye(len(modes)) if mode_mac is None else mode_mac
     energy = visible**2
     share = energy.max(axis=0) / energy.sum(axis=0)
+    # two resonances overlap when they lie closer than the sum of their half-power half-widths
+    half_width = freq * np.clip(np.nan_to_num(damping), *SIDE_BAND_ZETA)
     flags = []
     for k in range(len(modes)):
         reasons = []
         stronger = [j for j in range(len(modes)) if j != k and mode_mac[j, k] >= criteria.mac_min
-                    and abs(freq[j] - freq[k]) < criteria.close_rtol * max(freq[j], freq[k])
+                    and abs(freq[j] - freq[k]) < max(criteria.close_rtol * max(freq[j], freq[k]),
+                                                      half_width[j] + half_width[k])
                     and (n_poles[j], -j) > (n_poles[k], -k)]
         if stronger:
             j = max(stronger, key=lambda j: (n_poles[j], -j))

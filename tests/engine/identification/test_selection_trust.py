@@ -398,10 +398,11 @@ def test_a_weaker_mode_of_the_same_shape_close_by_is_a_shadow():
     """Modes at 4.20 Hz (19 poles) and 4.26 Hz (12 poles), 1.4 % apart, MAC
     0.998: the weaker is flagged 'same shape as 4.2 Hz (MAC 0.998)', the
     stronger not. MAC 0.97 (below mac_min), 2.5 % apart (beyond
-    close_rtol) or as many poles and the higher frequency: the rule as
-    stated, each side of each bound."""
+    close_rtol; damped 0.5 %, so their half-power bands do not overlap) or
+    as many poles and the higher frequency: the rule as stated, each side
+    of each bound."""
     criteria = modal.StabilityCriteria()
-    base = mode_table([1.0, 1.0], [1.0, 1.0], [0.015, 0.015])
+    base = mode_table([1.0, 1.0], [1.0, 1.0], [0.005, 0.005])
     base["freq_hz"], base["n_poles"] = [4.2, 4.26], [19, 12]
     alike = np.array([[1.0, 0.998], [0.998, 1.0]])
     assert _flags(base, np.ones((3, 2)), criteria, alike) == ["", "same shape as 4.2 Hz (MAC 0.998)"]
@@ -416,6 +417,30 @@ def test_a_weaker_mode_of_the_same_shape_close_by_is_a_shadow():
     assert _flags(tie, np.ones((3, 2)), criteria, alike) == ["", "same shape as 4.2 Hz (MAC 0.998)"]
     stronger_above = base.assign(n_poles=[12, 19])
     assert _flags(stronger_above, np.ones((3, 2)), criteria, alike) == ["same shape as 4.26 Hz (MAC 0.998)", ""]
+
+
+def test_a_weaker_mode_of_the_same_shape_in_an_overlapping_resonance_is_a_shadow():
+    """Beyond close_rtol (2 %), a weaker mode of the same shape is still a
+    shadow when the two half-power bands overlap: 3 % apart (0.126 Hz at 4.2
+    Hz), the half-widths ``zeta f`` sum to more than the gap for ``zeta`` =
+    1.5 % (0.128 Hz) and to less for 1.45 % (0.124 Hz). A damping above 10 %
+    counts as 10 % (a spurious mode's 40 % would claim a mode 20 % away),
+    NaN as 0.1 %."""
+    criteria = modal.StabilityCriteria()
+    alike = np.array([[1.0, 0.998], [0.998, 1.0]])
+    pair = mode_table([1.0, 1.0], [1.0, 1.0], [0.015, 0.015])
+    pair["freq_hz"], pair["n_poles"] = [4.2, 4.2 * 1.03], [19, 12]
+    assert _flags(pair, np.ones((3, 2)), criteria, alike) == ["", "same shape as 4.2 Hz (MAC 0.998)"]
+    apart = pair.assign(damping=[0.0145, 0.0145])
+    assert _flags(apart, np.ones((3, 2)), criteria, alike) == ["", ""]
+    one_sided = pair.assign(damping=[0.0, 0.0296])  # 0.1 % + 2.96 %: 0.0042 + 0.1285 Hz > 0.126 Hz
+    assert _flags(one_sided, np.ones((3, 2)), criteria, alike)[1].startswith("same shape as 4.2 Hz")
+    assert _flags(one_sided.assign(damping=[0.0, 0.028]), np.ones((3, 2)), criteria, alike)[1] == ""
+    assert _flags(one_sided.assign(damping=[np.nan, 0.0296]), np.ones((3, 2)), criteria, alike)[1].startswith("same")
+    wide = pair.assign(freq_hz=[4.2, 5.04], damping=[0.01, 0.4])  # 0.042 + 0.504 Hz < 0.84 Hz
+    assert _flags(wide, np.ones((3, 2)), criteria, alike)[1] == ""
+    stronger_above = pair.assign(n_poles=[12, 19])
+    assert _flags(stronger_above, np.ones((3, 2)), criteria, alike)[0] == "same shape as 4.326 Hz (MAC 0.998)"
 
 
 def test_the_selection_does_not_depend_on_the_order_of_the_poles():
