@@ -399,6 +399,50 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
 
 
+def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min) -> list[str]:
+    """Which modes are a second estimate of one resonance: ``"same spectral
+    peak as 2.47 Hz (MAC 0.999)"``, or empty.
+
+    Two modes supported by the same singular-value peak
+    (:func:`spectral_support`: the same ``sv_number`` and ``sv_peak_hz``)
+    whose shapes have a MAC of at least ``mac_min`` are one peak of one
+    shape in the spectrum: the channels and the spectrum see one mode, so
+    the one with fewer poles (as many: the higher frequency) is the other's
+    second estimate. Two modes of one peak with shapes of their own (close
+    modes, the first and second singular values' peaks at one frequency)
+    stay two.
+
+    Parameters
+    ----------
+    freq_hz : array_like, shape (n_modes,)
+        The modes' frequencies (Hz), for the reason's text.
+    support : pandas.DataFrame
+        :func:`spectral_support` of the modes.
+    shapes : array_like, shape (n_channels, n_modes)
+        The modes' shapes, for their MAC with each other.
+    n_poles : array_like, shape (n_modes,)
+        The poles of each mode (its weight in the diagram).
+    mac_min : float
+        The MAC above which two shapes are one.
+
+    Returns
+    -------
+    list of str
+        One reason per mode, empty where none.
+    """
+    freq_hz, n_poles = np.asarray(freq_hz, dtype=float), np.asarray(n_poles)
+    peak = support["sv_peak_hz"].to_numpy(dtype=float)
+    number = support["sv_number"].to_numpy()
+    alike = auto_mac(shapes)
+    reasons = []
+    for k in range(len(support)):
+        stronger = [j for j in range(len(support)) if j != k and number[j] == number[k] and peak[j] == peak[k]
+                    and alike[j, k] >= mac_min and (n_poles[j], -j) > (n_poles[k], -k)]
+        j = max(stronger, key=lambda j: (n_poles[j], -j), default=None)
+        reasons.append("" if j is None else f"same spectral peak as {freq_hz[j]:.4g} Hz (MAC {alike[j, k]:.3f})")
+    return reasons
+
+
 def auto_mac(shapes) -> np.ndarray:
     """The MAC of every pair of ``shapes`` (n_channels, n_modes): symmetric,
     1 on the diagonal (:func:`modal.mac` of the shapes with themselves)."""

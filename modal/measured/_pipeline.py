@@ -406,7 +406,10 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     (:func:`modal.spectral_support`, on the complex shapes as identified):
     the columns ``sv_peak_hz``, ``sv_number``, ``sv_mac``, ``spectral_support``
     added to ``modes`` and, where ``modes`` has a ``flag`` column, the reason
-    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons.
+    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons, and
+    ``same spectral peak as ...`` to a mode that shares its peak and shape
+    with a stronger one (:func:`modal.identification._fdd.shared_peaks`;
+    not where the selection already named it ``same shape as ...``).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
     took them): the shapes are in the first channel's quantity, the spectrum
@@ -417,9 +420,11 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     import dataclasses
 
     from ..identification import QUANTITIES, spectral_support
+    from ..identification._fdd import shared_peaks
 
     modes = result.modes.copy()
-    shapes = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
+    identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
+    shapes = identified
     freq_hz, damping = modes["freq_hz"].to_numpy(dtype=float), modes["damping"].to_numpy(dtype=float)
     if quantities is not None and len(modes):
         relative = np.array([QUANTITIES[q] for q in quantities]) - QUANTITIES[quantities[0]]
@@ -432,8 +437,11 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     if "flag" in modes:
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)
-        modes["flag"] = pd.Series([("; ".join(filter(None, [f, NO_SPECTRAL_PEAK])) if lack else f)
-                                   for f, lack in zip(flags, lacking)], index=modes.index, dtype=modes["flag"].dtype)
+        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], result.criteria.mac_min)
+        modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "",
+                                                           "" if f.startswith("same shape as") else second]))
+                                   for f, lack, second in zip(flags, lacking, shared)],
+                                  index=modes.index, dtype=modes["flag"].dtype)
     return dataclasses.replace(result, modes=modes)
 
 

@@ -9,6 +9,7 @@ the EFDD bell bin by bin (the tests of the mutation run,
 import warnings
 
 import numpy as np
+import pandas as pd
 import pytest
 import scipy.linalg
 import scipy.signal
@@ -641,3 +642,46 @@ def test_efdd_of_a_beating_bell_is_nan():
     db = np.full((257, 1), -40.0)
     db[50:56, 0] = 10 * np.log10([1.0, 0.011, 0.011, 0.011, 0.011, 0.5])
     assert np.isnan(modal.efdd(synthetic(db), 50)).all()
+
+
+def support_rows(rows):
+    """A :func:`modal.spectral_support` table from ``(sv_number, sv_peak_hz)`` pairs."""
+    return pd.DataFrame([{"sv_peak_hz": peak, "sv_number": number, "sv_mac": np.nan, "spectral_support": number > 0,
+                          "efdd_freq_hz": np.nan, "efdd_damping": np.nan} for number, peak in rows],
+                        columns=modal.identification._fdd.SUPPORT_COLUMNS)
+
+
+def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
+    """Modes at 2.47 Hz (29 poles) and 2.61 Hz (23 poles) that the first
+    singular value's peak at 2.466 Hz supports, shapes of MAC 0.9997: the
+    weaker is the other's second estimate. Each condition undone in turn
+    (shapes apart, another peak, the same frequency on the other singular
+    value, no peak at all) leaves both alone; a tie in poles goes to the
+    lower frequency; of three on one peak both weaker name the strongest."""
+    from modal.identification._fdd import shared_peaks
+
+    a = np.array([1.0, 0.6, -0.3])
+    b = a + np.array([0.0, 0.02, 0.01])  # MAC 0.9997 with a
+    other = np.array([0.3, -0.2, 1.0])  # MAC 0.01 with a
+    freq, poles = [2.47, 2.61], [29, 23]
+    one = support_rows([(1, 2.466), (1, 2.466)])
+    mac_ab = modal.mac(a[:, None], b[:, None])[0, 0]
+    assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.98) == \
+        ["", f"same spectral peak as 2.47 Hz (MAC {mac_ab:.3f})"]
+    assert shared_peaks(freq, one, np.column_stack([b, a]), [23, 29], 0.98)[0] == \
+        f"same spectral peak as 2.61 Hz (MAC {mac_ab:.3f})"  # the stronger decides, not the order
+    assert shared_peaks(freq, one, np.column_stack([a, other]), poles, 0.98) == ["", ""]
+    assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.99999) == ["", ""]  # mac_min is passed on
+    assert shared_peaks(freq, support_rows([(1, 2.466), (1, 2.59)]), np.column_stack([a, b]), poles, 0.98) == ["", ""]
+    assert shared_peaks(freq, support_rows([(1, 2.466), (2, 2.466)]), np.column_stack([a, b]), poles, 0.98) == ["", ""]
+    none = support_rows([(0, np.nan), (0, np.nan)])
+    assert shared_peaks(freq, none, np.column_stack([a, b]), poles, 0.98) == ["", ""]
+    tie = shared_peaks(freq, one, np.column_stack([a, b]), [20, 20], 0.98)
+    assert tie[0] == "" and tie[1].startswith("same spectral peak as 2.47")
+    at_bound = modal.auto_mac(np.column_stack([a, b]))[0, 1]
+    assert shared_peaks(freq, one, np.column_stack([a, b]), poles, at_bound)[1].startswith("same spectral peak")
+    three = support_rows([(1, 2.466)] * 3)
+    flags = shared_peaks([2.40, 2.47, 2.61], three, np.column_stack([b, a, b]), [12, 29, 23], 0.98)
+    assert flags[1] == "" and flags[0].startswith("same spectral peak as 2.47") and \
+        flags[2].startswith("same spectral peak as 2.47")
+    assert shared_peaks([], support_rows([]), np.empty((3, 0)), [], 0.98) == []

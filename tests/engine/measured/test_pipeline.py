@@ -74,9 +74,11 @@ def _same_diagram(got, expected):
     # stabilisation call does not get (tests/engine/measured/test_uncertainty.py covers them)
     same = [c for c in reference.modes.columns if c not in ("freq_std_hz", "damping_std", "flag")]
     pd.testing.assert_frame_equal(result.modes[same], reference.modes[same], rtol=1e-9)
-    # the witness adds its reason to the selection's flag, nothing else
+    # the witness adds its reasons to the selection's flag, nothing else
     for flag, selection in zip(result.modes["flag"], reference.modes["flag"]):
-        assert flag in (selection, "; ".join(filter(None, [selection, "no spectral peak"]))), (flag, selection)
+        added = [r for r in flag.split("; ") if r and r not in selection.split("; ")]
+        assert flag.startswith(selection) and all(r == "no spectral peak" or r.startswith("same spectral peak as ")
+                                                  for r in added), (flag, selection)
     np.testing.assert_allclose(result.singular_values, reference.singular_values, rtol=1e-10)
     return dt
 
@@ -192,3 +194,31 @@ def test_no_vibration_judges_each_channel_against_its_largest_magnitude():
     raw = np.column_stack([-1 + 1e-12 * wave, 1 + 1e-12 * wave, np.full(len(t), -5.0), 3e-3 * t - 2,
                            -1 + 1e-9 * wave, np.random.default_rng(0).standard_normal(len(t))])
     assert no_vibration(raw, modal.detrend(raw)).tolist() == [0, 1, 2, 3]
+
+
+def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
+    """The beam's three modes with a copy of its first mode added 0.3
+    half-widths above it with fewer poles: the witness finds both on one
+    peak of one shape and names the copy ``same spectral peak as <first>``;
+    the real modes keep their flags. Where the selection already named the
+    copy ``same shape as ...``, that reason stays alone."""
+    import dataclasses
+
+    acc, dt, f_exact = ambient_beam()
+    details = {}
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=40, fmax=f_exact[2] * 1.3, details=details)
+    modes = result.modes
+    copy = modes.iloc[[0]].assign(mode=4, n_poles=int(modes["n_poles"].iloc[0]) - 5,
+                                  freq_hz=modes["freq_hz"].iloc[0] * (1 + 0.3 * modes["damping"].iloc[0]))
+    doubled = dataclasses.replace(result, modes=pd.concat([modes, copy], ignore_index=True),
+                                  shapes=np.column_stack([result.shapes, result.shapes[:, 0]]),
+                                  complex_shapes=np.column_stack([result.complex_shapes, result.complex_shapes[:, 0]]))
+    bare = doubled.modes.drop(columns=[c for c in doubled.modes.columns if c.startswith("sv_") or c.startswith("efdd")
+                                       or c == "spectral_support"])
+    witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=bare), details["spectrum"])
+    first = f"{modes['freq_hz'].iloc[0]:.4g}"
+    assert witnessed.modes["sv_peak_hz"].iloc[3] == witnessed.modes["sv_peak_hz"].iloc[0]
+    assert list(witnessed.modes["flag"]) == list(modes["flag"]) + [f"same spectral peak as {first} Hz (MAC 1.000)"]
+    shadow = bare.assign(flag=list(modes["flag"]) + [f"same shape as {first} Hz (MAC 1.000)"])
+    witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=shadow), details["spectrum"])
+    assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
