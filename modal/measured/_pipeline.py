@@ -408,7 +408,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     added to ``modes`` and, where ``modes`` has a ``flag`` column, the reason
     :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons, and
     ``same spectral peak as ...`` to a mode that shares its peak and shape
-    with a stronger one (:func:`modal.identification._fdd.shared_peaks`;
+    with a stronger one (:func:`modal.identification.shared_peaks`;
     not where the selection already named it ``same shape as ...``).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
@@ -419,8 +419,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     every channel measures the same quantity."""
     import dataclasses
 
-    from ..identification import QUANTITIES, spectral_support
-    from ..identification._fdd import shared_peaks
+    from ..identification import QUANTITIES, shared_peaks, spectral_support
 
     modes = result.modes.copy()
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes

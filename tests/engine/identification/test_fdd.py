@@ -658,7 +658,7 @@ def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     (shapes apart, another peak, the same frequency on the other singular
     value, no peak at all) leaves both alone; a tie in poles goes to the
     lower frequency; of three on one peak both weaker name the strongest."""
-    from modal.identification._fdd import shared_peaks
+    from modal.identification import shared_peaks
 
     a = np.array([1.0, 0.6, -0.3])
     b = a + np.array([0.0, 0.02, 0.01])  # MAC 0.9997 with a
