@@ -3,6 +3,8 @@ splitting a record into data sets."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import scipy.fft
 
@@ -212,9 +214,12 @@ def zero_phase_filter(y, dt, highpass_hz=None, lowpass_hz=None, order=4) -> np.n
 
 
 def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
-    """Keep every ``factor``-th sample after an anti-aliasing low-pass
-    (:func:`scipy.signal.decimate`: order-8 Chebyshev I at 0.8 of the new
-    Nyquist frequency, run forwards and backwards, so zero phase).
+    """Keep every ``factor``-th sample after an anti-aliasing low-pass:
+    Chebyshev type I of order 8, 0.05 dB ripple, its edge at 0.8 of the new
+    Nyquist frequency, run forwards and backwards (zero phase,
+    :func:`scipy.signal.sosfiltfilt`). This is :func:`scipy.signal.decimate`'s
+    default filter with ``zero_phase=True``, and the same samples; the
+    filter is designed once per stage's factor (:func:`_antialiasing`).
 
     Parameters
     ----------
@@ -231,7 +236,7 @@ def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
     dt : float
         The new sampling interval ``q dt``.
     """
-    from scipy.signal import decimate as scipy_decimate
+    from scipy.signal import sosfiltfilt
 
     y = finite_array("y", y, ndim=(2,))
     dt = positive_float("dt", dt)
@@ -243,14 +248,14 @@ def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
         remaining //= step
     n_samples, kept = y.shape[0], y.shape[0]
     for done, step in enumerate(stages):
-        if kept <= 27 * step:  # scipy's filter, run forwards and backwards, needs 27 q samples
+        if kept <= 27 * step:  # the filter, run forwards and backwards, needs 27 q samples
             stage = f" (stage {done + 1} of {stages}: {kept} samples left, more than {27 * step} needed)"
             raise ValueError(f"y has {n_samples} samples, too few to decimate by {factor}"
                              f"{stage if done else ''}")
         kept = -(-kept // step)
     def some_channels(x):
         for step in stages:
-            x = scipy_decimate(x, step, zero_phase=True, axis=0)
+            x = sosfiltfilt(_antialiasing(step), x, axis=0)[::step]
         return x
 
     # channels in blocks of at most DECIMATE_BLOCK values: the filter's temporaries stay bounded on a long
@@ -258,6 +263,16 @@ def decimate(y, dt, factor) -> tuple[np.ndarray, float]:
     width = max(1, DECIMATE_BLOCK // n_samples)
     blocks = [some_channels(y[:, c:c + width]) for c in range(0, y.shape[1], width)]
     return np.ascontiguousarray(np.hstack(blocks)), dt * factor
+
+
+@functools.lru_cache(maxsize=None)
+def _antialiasing(q: int) -> np.ndarray:
+    """:func:`decimate`'s low-pass for the factor ``q`` as second-order
+    sections: Chebyshev type I, order 8, 0.05 dB ripple, edge at ``0.8 / q``
+    of the Nyquist frequency (designing it cost 1.5 ms per record)."""
+    from scipy.signal import cheby1
+
+    return cheby1(8, 0.05, 0.8 / q, output="sos")
 
 
 def decay_start(y) -> int:
