@@ -151,12 +151,39 @@ def _spread(x) -> float:
     return float(_MAD_TO_SIGMA * np.median(np.abs(x - np.median(x)))) if x.size else 0.0
 
 
-def _variation(d) -> float:
+def _variation(d, deviation=None) -> float:
     """The channel's sample-to-sample variation: the spread of its second
-    differences; where more than half of them are equal (a coarsely
-    quantised record), 1.2533 x their mean absolute deviation instead."""
-    spread = _spread(d)
-    return spread if spread > 0 else float(_MEAN_AD_TO_SIGMA * np.mean(np.abs(d - np.median(d))))
+    differences ``d``; where more than half of them are equal (a coarsely
+    quantised record), 1.2533 x their mean absolute deviation instead.
+    ``deviation``: ``|d - median(d)|``, if already computed."""
+    deviation = np.abs(d - np.median(d)) if deviation is None else deviation
+    spread = float(_MAD_TO_SIGMA * np.median(deviation)) if deviation.size else 0.0
+    return spread if spread > 0 else float(_MEAN_AD_TO_SIGMA * np.mean(deviation))
+
+
+def _within(d, deviation, edge) -> bool:
+    """Whether every ``|d| <= edge x _variation(d)``, known without the
+    median of ``deviation = |d - median(d)|`` (the spike check's costliest
+    step): False when it cannot tell that way.
+
+    With ``level`` just above ``max|d| / (1.4826 edge)``: if fewer than
+    ``ceil(n / 2)`` deviations are ``<= level``, the ``ceil(n / 2)``-th
+    smallest deviation is above ``level``, and so is their median (NumPy's
+    median of ``n`` values is that one for odd ``n``, the mean of it and the
+    next for even ``n``, no smaller). Rounding is monotone, so the spread
+    ``1.4826 x median`` is then at least ``1.4826 x level`` as rounded, and
+    positive (not the quantised records' fallback); and ``edge`` times it at
+    least ``max|d|`` once ``edge x (1.4826 x level)``, rounded as
+    :func:`_spike_runs` rounds, is checked to be."""
+    if not edge > 0 or not deviation.size:
+        return False
+    largest = float(np.max(np.abs(d)))
+    if not np.isfinite(largest):
+        return False
+    level = largest / (edge * _MAD_TO_SIGMA) * (1 + 2**-40)  # a little above, for the check's rounding
+    if not largest <= edge * float(_MAD_TO_SIGMA * level):
+        return False
+    return int(np.count_nonzero(deviation <= level)) < (deviation.size + 1) // 2
 
 
 def _spike_runs(y, threshold=None) -> list[tuple[int, int, float]]:
@@ -172,12 +199,17 @@ def _spike_runs(y, threshold=None) -> list[tuple[int, int, float]]:
         return runs
     d = np.zeros(n)
     d[1:-1] = y[1:-1] - (y[:-2] + y[2:]) / 2  # each sample less the mean of its two neighbours
-    variation = _variation(d[1:-1])
+    # A spike's left neighbour has |d| >= SPIKE_EDGE x its departure > SPIKE_EDGE x threshold x variation: the
+    # runs to look at start just after such samples (half that bound, against round-off), rare in any record:
+    # most records have none, which _within tells without the variation's second median.
+    edge = 0.5 * SPIKE_EDGE * threshold
+    deviation = np.abs(d[1:-1] - np.median(d[1:-1]))
+    if _within(d[1:-1], deviation, edge):
+        return runs
+    variation = _variation(d[1:-1], deviation)
     if not variation > 0:
         return runs
-    # A spike's left neighbour has |d| >= SPIKE_EDGE x its departure > SPIKE_EDGE x threshold x variation: the
-    # runs to look at start just after such samples (half that bound, against round-off), rare in any record.
-    after_big = np.flatnonzero(np.abs(d) > 0.5 * SPIKE_EDGE * threshold * variation) + 1
+    after_big = np.flatnonzero(np.abs(d) > edge * variation) + 1
     for width in range(1, SPIKE_MAX_WIDTH + 1):
         # the neighbours first - 1 and first + width have two neighbours each
         first = after_big[(after_big >= 2) & (after_big <= n - width - 2)]

@@ -231,3 +231,63 @@ def test_simulated_ambient_and_impact_records_raise_no_alarm():
     noise = 0.001 * decay.std(axis=0)
     impact = np.vstack([noise * rng.standard_normal((2_000, 3)), decay + noise * rng.standard_normal(decay.shape)])
     assert _no_spike(impact) == [0] * 3
+
+
+def _screen_records():
+    """Records on which the spike check's screen (``_within``) does and does
+    not tell the answer: noise (even and odd lengths), a simulated ambient
+    record, noise with a real spike, heavy tails, a coarsely quantised record
+    (the variation's fallback), an alternating one (screened), a constant one."""
+    rng = np.random.default_rng(11)
+    noise = rng.standard_normal(30_001)
+    spiky = noise.copy()
+    spiky[12_345] += 80.0
+    yield "noise, odd", noise, True
+    yield "noise, even", noise[:-1], True
+    yield "ambient", ambient_beam(200.0)[0][:, 0], True
+    yield "a spike", spiky, False
+    yield "heavy tails", rng.standard_t(1.5, 20_000), False
+    yield "quantised", np.round(0.3 * rng.standard_normal(20_000)), False
+    yield "alternating", (-1.0) ** np.arange(4_000), True
+    yield "constant", np.full(5_000, 2.5), False
+
+
+@pytest.mark.parametrize("name, y, screened", list(_screen_records()), ids=lambda v: v if isinstance(v, str) else "")
+@pytest.mark.parametrize("threshold", [None, 5.0])
+def test_the_screen_gives_the_rules_result(monkeypatch, name, y, screened, threshold):
+    """Where the screen tells that no second difference reaches the edge, it
+    saves the variation's median and finds no spike, as the rule does; the
+    rule's runs are the same with and without it (the spike found)."""
+    from modal.records import _quality
+
+    told = []
+    within = _quality._within
+    monkeypatch.setattr(_quality, "_within", lambda *args: told.append(within(*args)) or told[-1])
+    runs = _spike_runs(y, threshold)
+    assert told == [screened and threshold is None]  # at a tenth of the threshold, the edge is within the noise
+    monkeypatch.setattr(_quality, "_within", lambda *args: False)
+    assert runs == _spike_runs(y, threshold)
+    if name == "a spike":
+        assert [run[:2] for run in runs] == [(12_345, 12_345)]
+
+
+def test_the_screen_tells_only_what_is_true():
+    """``_within`` is True only where every ``|d| <= edge x variation``
+    (here on 400 records of several kinds, lengths odd and even, edges
+    around the ratio of the largest ``|d|`` to the variation): never the
+    wrong way, and often enough to matter."""
+    from modal.records._quality import _variation, _within
+
+    rng = np.random.default_rng(12)
+    told = 0
+    for k in range(400):
+        n = int(rng.integers(5, 3_000))
+        d = [rng.standard_normal(n), rng.standard_t(2.0, n), np.round(rng.standard_normal(n)),
+             rng.laplace(size=n)][k % 4]
+        deviation = np.abs(d - np.median(d))
+        ratio = np.max(np.abs(d)) / _variation(d)
+        for edge in ratio * np.array([0.9, 0.999, 1.001, 1.1, 2.0]):
+            if _within(d, deviation, edge):
+                told += 1
+                assert np.max(np.abs(d)) <= edge * _variation(d, deviation)
+    assert told > 100
