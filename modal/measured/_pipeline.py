@@ -405,11 +405,12 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     """``result`` with its modes checked against the singular-value spectrum
     (:func:`modal.spectral_support`, on the complex shapes as identified):
     the columns ``sv_peak_hz``, ``sv_number``, ``sv_mac``, ``spectral_support``
-    added to ``modes`` and, where ``modes`` has a ``flag`` column, the reason
-    :data:`NO_SPECTRAL_PEAK` added to an unsupported mode's reasons, and
-    ``same spectral peak as ...`` to a mode that shares its peak and shape
-    with a stronger one (:func:`modal.identification.shared_peaks`;
-    not where the selection already named it ``same shape as ...``).
+    added to ``modes`` (last; any already there replaced) and, where
+    ``modes`` has a ``flag`` column, the reason :data:`NO_SPECTRAL_PEAK` added
+    to an unsupported mode's reasons, and ``same spectral peak as ...`` to a
+    mode that shares its peak and shape with a stronger one
+    (:func:`modal.identification.shared_peaks`; not where the selection
+    already named it ``same shape as ...``).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
     took them): the shapes are in the first channel's quantity, the spectrum
@@ -421,7 +422,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
 
     from ..identification import QUANTITIES, shared_peaks, spectral_support
 
-    modes = result.modes.copy()
+    modes = result.modes
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
     shapes = identified
     freq_hz, damping = modes["freq_hz"].to_numpy(dtype=float), modes["damping"].to_numpy(dtype=float)
@@ -431,8 +432,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
         pole = 2 * np.pi * freq_hz * (-zeta + 1j * np.sqrt(1 - zeta**2))
         shapes = np.asarray(shapes, dtype=complex) * pole[None, :] ** relative[:, None]
     support = spectral_support(spectrum, freq_hz, shapes, damping=damping)
-    for column in support.columns:
-        modes[column] = support[column].to_numpy()
+    # the columns in one step (a third of the time of one at a time); any already there are replaced
+    modes = pd.concat([modes.drop(columns=support.columns, errors="ignore"), support.set_axis(modes.index)], axis=1)
     if "flag" in modes:
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)

