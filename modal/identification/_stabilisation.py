@@ -895,13 +895,15 @@ def _side_bands(freq, damping, n_poles, mode_mac, trusted, mac_min) -> list[str]
 def _notes(modes, candidates, above, fmax) -> tuple:
     """The selection's decisions as sentences for a log (:attr:`Stabilisation.notes`)."""
     notes = []
-    for _, row in modes.iterrows():
-        if row["flag"]:
-            notes.append(f"mode {row['mode']} ({row['freq_hz']:.4g} Hz) is doubtful: {row['flag']} "
+    # column by column, not iterrows (a Series per row: 0.7 ms a record)
+    for number, freq_hz, flag, second_freq_hz, second_damping in zip(
+            modes["mode"], modes["freq_hz"], modes["flag"], modes["second_freq_hz"], modes["second_damping"]):
+        if flag:
+            notes.append(f"mode {number} ({freq_hz:.4g} Hz) is doubtful: {flag} "
                          "(kept in the modes table with its flag)")
-        if np.isfinite(row["second_freq_hz"]):
-            notes.append(f"mode {row['mode']} ({row['freq_hz']:.4g} Hz) has a second estimate at "
-                         f"{row['second_freq_hz']:.4g} Hz, damping {100 * row['second_damping']:.2g} %: a cluster "
+        if np.isfinite(second_freq_hz):
+            notes.append(f"mode {number} ({freq_hz:.4g} Hz) has a second estimate at "
+                         f"{second_freq_hz:.4g} Hz, damping {100 * second_damping:.2g} %: a cluster "
                          "of the same shape at the same orders, one physical mode")
     if len(candidates):
         listed = ", ".join(f"{f:.4g} Hz ({n} poles)" for f, n in zip(candidates["freq_hz"], candidates["n_poles"]))
