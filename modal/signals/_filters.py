@@ -272,9 +272,7 @@ def _antialiasing(q: int) -> np.ndarray:
     of the Nyquist frequency (designing it cost 1.5 ms per record)."""
     from scipy.signal import cheby1
 
-    sos = cheby1(8, 0.05, 0.8 / q, output="sos")
-    sos.flags.writeable = False  # one array for every call: nobody may change it
-    return sos
+    return cheby1(8, 0.05, 0.8 / q, output="sos")
 
 
 def decay_start(y) -> int:
