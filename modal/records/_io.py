@@ -146,7 +146,7 @@ def _printed_resolution(values: np.ndarray) -> float:
     scale = max(1.0, float(np.max(np.abs(values))))
     for k in range(0, 13):
         shifted = values * 10.0**k
-        if np.all(np.abs(shifted - np.round(shifted)) <= 1e-9 * scale * 10.0**k + 1e-9):
+        if np.all(np.abs(shifted - np.round(shifted)) <= 1e-14 * scale * 10.0**k + 1e-9):
             return 10.0**-k
     return 0.0
 
@@ -194,7 +194,7 @@ def _sniff_delimiter(lines, decimal):
         if candidate == decimal or not sample:
             continue
         if candidate == "\t" and any(" " in cell.strip() or not cell.strip()
-                                      for line in sample for cell in line.strip().split("\t")):
+                                      for line in sample for cell in line.split("\t")):
             continue  # tabs among spaces, or runs of them (an .asc export's columns): whitespace separates
         # the count of most lines (the median): a row cut short does not hide the delimiter,
         # it is named by the ragged-row check
