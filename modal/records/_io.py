@@ -391,9 +391,15 @@ def _load_uff(path: Path, fs):
         name=[str(s.get("id1", "")).strip() or f"ch{c + 1}" for c, s in enumerate(sets)],
         node=[s.get("rsp_node") for s in sets],
         direction=[s.get("rsp_dir") for s in sets],
-        unit=[str(s.get("ord_axis_units_lab", "")).strip() or None for s in sets],
+        unit=[_uff_unit(s.get("ordinate_axis_units_lab")) for s in sets],
     )
     return MeasuredRecord(acc, _resolve_dt(dt_file, fs, path), channels, path)
+
+
+def _uff_unit(label) -> str | None:
+    """A type-58 set's ordinate unit label, or None (none, blank, or pyuff's ``NONE``)."""
+    label = "" if label is None else str(label).strip()
+    return None if label.upper() in ("", "NONE") else label
 
 
 def _file_kind(mode: int) -> str:

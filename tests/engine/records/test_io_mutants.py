@@ -402,3 +402,72 @@ def test_lvm_is_read_from_its_text_not_from_a_pickle_beside_it(tmp_path):
     assert (tmp_path / "r.lvm.pkl").exists()
     _lvm(tmp_path / "r.lvm", LVM_ROWS[:4])
     assert read_record(path).acc.shape == (4, 2)
+
+
+# --- UFF data sets 58 ----------------------------------------------------------------------------
+def _uff(path, sets):
+    import pyuff
+
+    pyuff.UFF(str(path)).write_sets(sets, mode="add")
+    return path
+
+
+def _set58(data, inc=0.01, x=None, spacing=1, complex_data=False, **labels):
+    import pyuff
+
+    n = len(data)
+    return pyuff.prepare_58(func_type=1, rsp_node=3, rsp_dir=2, ref_node=0, ref_dir=0, ord_data_type=6 if complex_data else 4,
+                            num_pts=n, abscissa_spacing=spacing, abscissa_min=0.0, abscissa_inc=inc,
+                            abscissa_spec_data_type=17, ordinate_spec_data_type=12, orddenom_spec_data_type=0,
+                            data=data, x=inc * np.arange(n) if x is None else x, **labels)
+
+
+def test_one_uff_set_is_one_channel_with_its_unit_label(tmp_path):
+    """pyuff returns one set as a dict, not a list; the unit is the ordinate's
+    label (pyuff's NONE where there is none), the name is id1 or ch<n>."""
+    path = _uff(tmp_path / "one.uff", [_set58(A[:8], id1="", ordinate_axis_units_lab="m/s^2")])
+    record = read_record(path)
+    np.testing.assert_allclose(record.acc[:, 0], A[:8], rtol=1e-10)
+    assert record.dt == 0.01
+    assert record.channels.to_dict("records") == [{"name": "ch1", "node": 3, "direction": 2, "unit": "m/s^2"}]
+    path = _uff(tmp_path / "two.uff", [_set58(A[:8], id1="north"), _set58(B[:8], id1="south")])
+    assert read_record(path).channels[["name", "unit"]].values.tolist() == [["north", None], ["south", None]]
+
+
+def test_uff_refusals(tmp_path):
+    with pytest.raises(ValueError, match=r"inc.uff: type-58 sets with different abscissa_inc \[0.01, 0.02\]"):
+        read_record(_uff(tmp_path / "inc.uff", [_set58(A[:8]), _set58(B[:8], inc=0.02)]))
+    with pytest.raises(ValueError, match=r"frf.uff: complex type-58 data \(a spectrum, not a time record\)"):
+        read_record(_uff(tmp_path / "frf.uff", [_set58(A[:8] * (1 + 1j), complex_data=True)]))
+    nodes = tmp_path / "nodes.uff"
+    nodes.write_text("    -1\n    15\n         1         0         0         1 0.0000E+00 0.0000E+00 0.0000E+00\n    -1\n")
+    with pytest.raises(ValueError, match=r"nodes.uff: no UFF data set of type 58"):
+        read_record(nodes)
+
+
+def test_uff_abscissa_increments_must_agree_and_uneven_ones_need_fs(tmp_path):
+    """The file holds 6 significant digits: 1e-4 apart is another rate."""
+    path = _uff(tmp_path / "r.uff", [_set58(A[:8], inc=0.005), _set58(B[:8], inc=0.0050005)])
+    with pytest.raises(ValueError, match=r"r.uff: type-58 sets with different abscissa_inc \[0.005, 0.0050005\]"):
+        read_record(path)
+    uneven = _uff(tmp_path / "uneven.uff", [_set58(A[:8], x=0.01 * np.arange(8) ** 1.1, spacing=0)])
+    with pytest.raises(ValueError, match=r"uneven.uff: no sampling rate in the file"):
+        read_record(uneven)
+    assert read_record(uneven, fs=100).dt == 0.01
+
+
+# --- read_record ---------------------------------------------------------------------------------
+def test_a_socket_is_refused_naming_what_it_is(tmp_path):
+    import socket
+
+    with socket.socket(socket.AF_UNIX) as server:
+        server.bind(str(tmp_path / "r.csv"))
+        with pytest.raises(ValueError, match=r"r.csv is a socket, not a record file"):
+            read_record(tmp_path / "r.csv", fs=100)
+
+
+def test_load_record_passes_the_text_options(tmp_path):
+    path = _text(tmp_path, ["recorded by x"] + [r.replace(",", "|") for r in _rows(",")])
+    acc, dt = load_record(path, delimiter="|", skip_rows=1)
+    np.testing.assert_array_equal(acc, np.column_stack([A, B]))
+    assert dt == pytest.approx(0.005, rel=1e-12)
