@@ -531,7 +531,8 @@ def save_record_npz(path, acc, dt) -> Path:
     path = Path(path)
     if path.suffix.lower() != ".npz":
         raise ValueError(f"path must end in .npz, got {path.name!r}")
-    np.savez(path, acc=acc, dt=dt)
+    with open(path, "wb") as fh:  # np.savez(path) would append .npz to a path ending in .NPZ
+        np.savez(fh, acc=acc, dt=dt)
     return path
 
 

@@ -3,6 +3,7 @@
 channels of small records written to tmp_path."""
 
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -471,3 +472,81 @@ def test_load_record_passes_the_text_options(tmp_path):
     acc, dt = load_record(path, delimiter="|", skip_rows=1)
     np.testing.assert_array_equal(acc, np.column_stack([A, B]))
     assert dt == pytest.approx(0.005, rel=1e-12)
+
+
+@pytest.mark.skipif(not Path("/dev/loop0").exists(), reason="no block device /dev/loop0 here")
+def test_a_block_device_is_refused_without_reading_it(tmp_path):
+    (tmp_path / "r.csv").symlink_to("/dev/loop0")
+    with pytest.raises(ValueError, match=r"r.csv is a block device, not a record file"):
+        read_record(tmp_path / "r.csv", fs=100)
+
+
+def test_a_cell_led_by_a_control_character_that_strip_removes_reads(tmp_path):
+    """numpy and float() refuse '\\x1f0.5' (a unit separator); the cell-by-cell pass strips it."""
+    rows = _rows(",")
+    rows[3] = rows[3].replace(",", ",\x1f", 1)
+    _same(read_record(_text(tmp_path, rows)))
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".txt", ".tsv", ".asc", ".dat", ".TSV"])
+def test_every_text_extension_is_read_as_text(tmp_path, suffix):
+    _same(read_record(_text(tmp_path, _rows("\t"), "r" + suffix)))
+
+
+def test_unv_is_uff(tmp_path):
+    assert read_record(_uff(tmp_path / "r.unv", [_set58(A[:8])])).acc.shape == (8, 1)
+
+
+def test_a_measured_record_is_frozen_with_empty_defaults():
+    import dataclasses
+
+    from modal.records import MeasuredRecord
+
+    record = MeasuredRecord(np.ones((4, 1)), 0.5)
+    assert record.channels.empty and record.path is None and record.fs == 2.0
+    assert MeasuredRecord(np.ones((4, 1)), 0.5).channels is not record.channels
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        record.dt = 1.0
+
+
+# --- the writers ---------------------------------------------------------------------------------
+def test_write_uff58_fields_of_each_set(tmp_path):
+    import pyuff
+
+    from modal.records import write_uff58
+
+    acc = np.column_stack([A[:8], B[:8]])
+    path = write_uff58(tmp_path / "r.UNV", acc, 0.005)
+    sets = pyuff.UFF(str(path)).read_sets()
+    assert len(sets) == 2
+    for c, s in enumerate(sets):
+        got = {k: s[k] for k in ("type", "func_type", "id1", "rsp_node", "rsp_dir", "ref_node", "ref_dir", "ord_data_type",
+                                 "num_pts", "abscissa_spacing", "abscissa_min", "abscissa_inc",
+                                 "abscissa_spec_data_type", "ordinate_spec_data_type", "orddenom_spec_data_type")}
+        assert got == {"type": 58, "func_type": 1, "id1": f"acceleration channel {c + 1}", "rsp_node": c + 1, "rsp_dir": 3,
+                       "ref_node": 0, "ref_dir": 0, "ord_data_type": 4, "num_pts": 8, "abscissa_spacing": 1,
+                       "abscissa_min": 0.0, "abscissa_inc": 0.005, "abscissa_spec_data_type": 17,
+                       "ordinate_spec_data_type": 12, "orddenom_spec_data_type": 0}
+        np.testing.assert_allclose(s["data"], acc[:, c], rtol=1e-10)
+    assert write_uff58(tmp_path / "r.uff", acc, 0.005).suffix == ".uff"
+
+
+@pytest.mark.parametrize("writer, name, message", [
+    ("write_uff58", "r.txt", r"path must end in .uff or .unv, got 'r.txt'"),
+    ("write_uff58", "r.uff", r"dt must be a finite number > 0, got 0"),
+    ("save_record_npz", "r.npy", r"path must end in .npz, got 'r.npy'"),
+    ("save_record_npz", "r.npz", r"dt must be a finite number > 0, got 0"),
+])
+def test_writers_name_what_they_refuse(tmp_path, writer, name, message):
+    import modal.records
+
+    with pytest.raises(ValueError, match=message):
+        getattr(modal.records, writer)(tmp_path / name, np.ones((4, 1)), 0 if "dt" in message else 0.01)
+    assert not (tmp_path / name).exists()
+
+
+def test_save_record_npz_takes_an_upper_case_extension(tmp_path):
+    from modal.records import save_record_npz
+
+    path = save_record_npz(tmp_path / "r.NPZ", np.ones((4, 1)), 0.01)
+    assert read_record(path).dt == 0.01
