@@ -17,7 +17,3 @@ def unit_key(unit) -> str:
     key = unicodedata.normalize("NFKC", str(unit)).strip().lower().replace("\u03bc", "u").replace("\u2212", "-")
     key = re.sub(r"[\s^*\u00b7\u22c5]", "", key)
     return re.sub(r"s-([12])$", lambda m: "/s" + ("2" if m.group(1) == "2" else ""), key)
-
-#: Components of a unit direction whose norm differs from 1 by more than
-#: this are refused; smaller deviations (rounded files) are normalised.
-DIRECTION_RTOL = 1e-2

@@ -529,6 +529,8 @@ def test_write_uff58_fields_of_each_set(tmp_path):
                        "ordinate_spec_data_type": 12, "orddenom_spec_data_type": 0}
         np.testing.assert_allclose(s["data"], acc[:, c], rtol=1e-10)
     assert write_uff58(tmp_path / "r.uff", acc, 0.005).suffix == ".uff"
+    write_uff58(tmp_path / "r.uff", acc[:, :1], 0.005)  # overwritten, not appended to
+    assert read_record(tmp_path / "r.uff").acc.shape == (8, 1)
 
 
 @pytest.mark.parametrize("writer, name, message", [
