@@ -20,6 +20,7 @@ import csv
 import re
 import stat
 import warnings
+import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -122,7 +123,8 @@ def _load_npy(path: Path, fs):
 
 
 def _load_npz(path: Path, fs):
-    with np.load(path, allow_pickle=False) as data:
+    # numpy leaves a path it opened open when the zip is unreadable: the file is opened here
+    with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
         keys = set(data.files)
         name = "acc" if "acc" in keys else "y" if "y" in keys else None
         if name is None:
@@ -503,7 +505,7 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
         if str(path) in str(exc):
             raise
         raise ValueError(f"{path}: {exc}") from None
-    except (OSError, UnicodeError) as exc:
+    except (OSError, UnicodeError, EOFError, zipfile.BadZipFile) as exc:  # an empty .npy, a .npz cut short
         raise ValueError(f"{path}: cannot be read as {ext} ({exc})") from None
     return record
 

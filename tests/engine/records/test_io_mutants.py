@@ -396,13 +396,18 @@ def test_lvm_refusals(tmp_path):
 
 
 def test_lvm_is_read_from_its_text_not_from_a_pickle_beside_it(tmp_path):
+    """lvm_read would load <record>.pkl when newer than the record: never a
+    pickle (stale, or anyone's) in place of the text."""
     import lvm_read
 
     path = _lvm(tmp_path / "r.lvm", LVM_ROWS)
-    lvm_read.read(str(path))  # leaves r.lvm.pkl beside it
-    assert (tmp_path / "r.lvm.pkl").exists()
-    _lvm(tmp_path / "r.lvm", LVM_ROWS[:4])
-    assert read_record(path).acc.shape == (4, 2)
+    other = _lvm(tmp_path / "other.lvm", LVM_ROWS[:4])
+    lvm_read.read(str(other))  # leaves other.lvm.pkl beside it
+    (tmp_path / "other.lvm.pkl").rename(tmp_path / "r.lvm.pkl")
+    assert read_record(path).acc.shape == (8, 2)
+    assert not (tmp_path / "other.lvm.pkl").exists()  # and none written
+    read_record(other)
+    assert not (tmp_path / "other.lvm.pkl").exists()
 
 
 # --- UFF data sets 58 ----------------------------------------------------------------------------
@@ -552,3 +557,37 @@ def test_save_record_npz_takes_an_upper_case_extension(tmp_path):
 
     path = save_record_npz(tmp_path / "r.NPZ", np.ones((4, 1)), 0.01)
     assert read_record(path).dt == 0.01
+
+
+def test_empty_and_cut_short_numpy_files_are_refused_naming_the_file(tmp_path):
+    """np.load raises EOFError on an empty file and BadZipFile on a .npz cut
+    short: a ValueError naming the file, as for every other bad record."""
+    np.savez(tmp_path / "whole.npz", acc=np.ones((100, 2)), dt=0.01)
+    whole = (tmp_path / "whole.npz").read_bytes()
+    (tmp_path / "cut.npz").write_bytes(whole[: len(whole) // 2])
+    (tmp_path / "empty.npy").write_bytes(b"")
+    (tmp_path / "empty.npz").write_bytes(b"")
+    for name, why in (("cut.npz", "File is not a zip file"), ("empty.npy", "No data left in file"),
+                      ("empty.npz", "No data left in file")):
+        with pytest.raises(ValueError, match=rf"^{tmp_path / name}: cannot be read as \.np[yz] \({why}\)$"):
+            read_record(tmp_path / name, fs=100 if name.endswith(".npy") else None)
+
+
+def test_a_message_names_the_file_once(tmp_path):
+    np.save(tmp_path / "r.npy", np.ones((4, 1)))
+    with pytest.raises(ValueError, match=rf"^{tmp_path / 'r.npy'}: no sampling rate in the file"):
+        read_record(tmp_path / "r.npy")
+    with pytest.raises(ValueError, match=rf"^{tmp_path / 'r.npy'}: acc needs at least 2 samples, got 1$"):
+        np.save(tmp_path / "r.npy", np.ones((1, 1)))
+        read_record(tmp_path / "r.npy", fs=10)
+
+
+@pytest.mark.parametrize("label", ["", "none", "NONE"])
+def test_a_uff_unit_label_that_is_blank_or_none_is_no_unit(tmp_path, label):
+    path = _uff(tmp_path / "r.uff", [_set58(A[:8], ordinate_axis_units_lab=label)])
+    assert read_record(path).channels["unit"].tolist() == [None]
+
+
+def test_lvm_delta_x_is_the_first_channels(tmp_path):
+    for second in ("", "-1", "0.01"):
+        assert read_record(_lvm(tmp_path / "r.lvm", LVM_ROWS, delta=f"Delta_X\t0.005\t{second}\t\n")).dt == 0.005
