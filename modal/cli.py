@@ -172,7 +172,8 @@ def parser() -> argparse.ArgumentParser:
                           "set of modes)")
     _identify_options(cmd)
     cmd.add_argument("--delimiter", help="text files: column delimiter (default: sniffed)")
-    cmd.add_argument("--decimal", default=".", choices=[".", ","], help="text files: decimal mark")
+    cmd.add_argument("--decimal", choices=[".", ","],
+                     help="text files: decimal mark (default: '.', or ',' where only a comma reads the numbers)")
     cmd.add_argument("--skip-rows", type=int, default=0, help="text files: lines to skip at the top")
     cmd.add_argument("--out", type=Path, required=True,
                      help="output folder (created; its files are replaced only once all are written)")

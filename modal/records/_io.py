@@ -180,7 +180,7 @@ def _rate_from_time(time, fs, path):
     dt = 1.0 / positive_float("fs", fs)
     if dt_time is not None and abs(dt_time - dt) > FS_WARN_RTOL * dt:
         warnings.warn(f"{path}: fs = {fs} Hz overrides the time column's {1 / dt_time:.6g} Hz",
-                      ModalWarning, stacklevel=4)
+                      ModalWarning, stacklevel=5)  # the caller of read_record
     return dt
 
 
@@ -294,6 +294,21 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
         dt, acc = 1.0 / positive_float("fs", fs), table
     acc = _as_record(acc)
     return MeasuredRecord(acc, dt, _channels(acc.shape[1], **({"name": names} if names else {})), path)
+
+
+def _load_text(path: Path, fs, decimal=None, **options):
+    """:func:`_load_csv` with the decimal mark given, or else with a point,
+    or with a comma where only a comma reads the numbers (a European
+    spreadsheet's export); when neither does, the point's error."""
+    if decimal is not None:
+        return _load_csv(path, fs, decimal=decimal, **options)
+    try:
+        return _load_csv(path, fs, decimal=".", **options)
+    except ValueError as point:
+        try:
+            return _load_csv(path, fs, decimal=",", **options)
+        except ValueError:
+            raise point from None
 
 
 def _fast_table(rows, decimal) -> np.ndarray | None:
@@ -418,7 +433,7 @@ _LOADERS = {".npy": _load_npy, ".npz": _load_npz, ".csv": _load_csv, ".txt": _lo
             ".asc": _load_csv, ".dat": _load_csv, ".lvm": _load_lvm, ".uff": _load_uff, ".unv": _load_uff}
 
 
-def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> MeasuredRecord:
+def read_record(path, fs=None, *, delimiter=None, decimal=None, skip_rows=0) -> MeasuredRecord:
     """Read a measured record with its channels' metadata.
 
     Formats, by extension:
@@ -456,8 +471,10 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
     delimiter : str, optional
         Text files: one character (default: sniffed from ``, ; tab |``, else
         whitespace).
-    decimal : {".", ","}
-        Text files: decimal mark.
+    decimal : {".", ","}, optional
+        Text files: decimal mark (default: a point, or a comma when the
+        file reads only with a comma, as a European spreadsheet's export
+        ``0,01;1,234;...`` does; the error is then the point's).
     skip_rows : int
         Text files: lines skipped at the top before anything is read.
 
@@ -495,11 +512,11 @@ def read_record(path, fs=None, *, delimiter=None, decimal=".", skip_rows=0) -> M
         raise ValueError(f"path: {path} cannot be read ({exc.strerror})") from None
     if not stat.S_ISREG(mode):
         raise ValueError(f"path: {path} is {_file_kind(mode)}, not a record file")
-    options = {}
-    if _LOADERS[ext] is _load_csv:
-        options = {"delimiter": delimiter, "decimal": decimal, "skip_rows": skip_rows}
     try:
-        record = _LOADERS[ext](path, fs, **options)
+        if _LOADERS[ext] is _load_csv:
+            record = _load_text(path, fs, delimiter=delimiter, decimal=decimal, skip_rows=skip_rows)
+        else:
+            record = _LOADERS[ext](path, fs)
         _check_layout(record.acc)
     except ValueError as exc:
         if str(path) in str(exc):

@@ -130,6 +130,33 @@ def test_csv_printed_time_semicolons_decimal_commas_units_row(tmp_path, acc):
     assert 1 / dt == pytest.approx(FS_NI, rel=2e-4)
 
 
+def test_decimal_commas_are_read_without_being_told_where_only_they_read(tmp_path, acc):
+    """A European spreadsheet's export (semicolons, decimal commas, a header)
+    reads as with ``decimal=','`` when no decimal mark is given; with
+    ``decimal='.'`` given it is refused as before. A comma-separated file
+    with decimal points stays one of points (three channels, not a comma
+    read as a decimal mark), and a file neither reads gives the point's
+    error."""
+    times = _printed_time(len(acc), 0.01, 2)
+    european = tmp_path / "export.csv"
+    european.write_text("\n".join(["t;a1;a2;a3"] + [";".join([t.replace(".", ",")] + [f"{v:.6f}".replace(".", ",")
+                                                                                    for v in row])
+                                                     for t, row in zip(times, acc)]) + "\n")
+    auto, told = read_record(european), read_record(european, decimal=",")
+    np.testing.assert_array_equal(auto.acc, told.acc)
+    assert auto.dt == told.dt == pytest.approx(0.01) and list(auto.channels["name"]) == ["a1", "a2", "a3"]
+    np.testing.assert_allclose(auto.acc, acc, atol=5e-7)
+    with pytest.raises(ValueError, match=r"fewer than 2 rows of numbers \(delimiter ',', decimal '\.'\)"):
+        read_record(european, decimal=".")
+    points = tmp_path / "points.csv"
+    points.write_text("\n".join(",".join([t] + [f"{v:.6f}" for v in row]) for t, row in zip(times, acc)) + "\n")
+    assert read_record(points).acc.shape == acc.shape
+    neither = tmp_path / "neither.csv"
+    neither.write_text("t;a\n0;x\n1;y\n")
+    with pytest.raises(ValueError, match=r"decimal '\.'"):
+        read_record(neither)
+
+
 def test_text_tabs_skip_rows_and_fs_overrides_time_column(tmp_path, acc):
     times = _printed_time(len(acc), 1 / 256, 6)  # %.6f at 256 Hz
     body = ["\t".join([t] + [repr(float(v)) for v in row]) for t, row in zip(times, acc)]
@@ -166,7 +193,8 @@ def test_text_errors_name_file_row_and_column(tmp_path):
         load_record(path)
     path.write_text("0.0;1,5\n0.005;2,5\n0.01;3,5\n")
     with pytest.raises(ValueError, match=r"bad.csv: .*pass delimiter=, decimal="):
-        load_record(path, delimiter=";")
+        load_record(path, delimiter=";", decimal=".")
+    np.testing.assert_array_equal(load_record(path, delimiter=";")[0], [[1.5], [2.5], [3.5]])  # only commas read it
 
 
 def test_npy_needs_fs_and_refuses_channels_first(tmp_path, acc):
