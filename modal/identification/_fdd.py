@@ -399,7 +399,7 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
 
 
-def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min) -> list[str]:
+def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shadows=None) -> list[str]:
     """Which modes are a second estimate of one resonance: ``"same spectral
     peak as 2.47 Hz (MAC 0.999)"``, or empty.
 
@@ -407,10 +407,10 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min) -> li
     (:func:`spectral_support`: the same ``sv_number`` and ``sv_peak_hz``)
     whose shapes have a MAC of at least ``mac_min`` are one peak of one
     shape in the spectrum: the channels and the spectrum see one mode, so
-    the one with fewer poles (as many: the higher frequency) is the other's
-    second estimate. Two modes of one peak with shapes of their own (close
-    modes, the first and second singular values' peaks at one frequency)
-    stay two.
+    the one farther from the peak (as far: the one with fewer poles, then
+    the higher frequency) is the other's second estimate. Two modes of one
+    peak with shapes of their own (close modes, the first and second
+    singular values' peaks at one frequency) stay two.
 
     Parameters
     ----------
@@ -421,24 +421,32 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min) -> li
     shapes : array_like, shape (n_channels, n_modes)
         The modes' shapes, for their MAC with each other.
     n_poles : array_like, shape (n_modes,)
-        The poles of each mode (its weight in the diagram).
+        The poles of each mode (its weight in the diagram: the tie-break).
     mac_min : float
         The MAC above which two shapes are one.
+    shadows : array_like of bool, shape (n_modes,), optional
+        Modes already judged another's shadow (the selection's ``same shape
+        as ...``): that pair is decided, so they take no part here.
 
     Returns
     -------
     list of str
-        One reason per mode, empty where none.
+        One reason per mode, empty where none (always for a shadow).
     """
     freq_hz, n_poles = np.asarray(freq_hz, dtype=float), np.asarray(n_poles)
     peak = support["sv_peak_hz"].to_numpy(dtype=float)
     number = support["sv_number"].to_numpy()
     alike = auto_mac(shapes)
+    taking_part = np.ones(len(support), dtype=bool) if shadows is None else ~np.asarray(shadows, dtype=bool)
+
+    def rank(j):  # nearer the peak first, then more poles, then the lower frequency
+        return -abs(freq_hz[j] - peak[j]), n_poles[j], -j
+
     reasons = []
     for k in range(len(support)):
-        stronger = [j for j in range(len(support)) if j != k and number[j] == number[k] and peak[j] == peak[k]
-                    and alike[j, k] >= mac_min and (n_poles[j], -j) > (n_poles[k], -k)]
-        j = max(stronger, key=lambda j: (n_poles[j], -j), default=None)
+        stronger = [j for j in range(len(support)) if j != k and taking_part[j] and taking_part[k]
+                    and number[j] == number[k] and peak[j] == peak[k] and alike[j, k] >= mac_min and rank(j) > rank(k)]
+        j = max(stronger, key=rank, default=None)
         reasons.append("" if j is None else f"same spectral peak as {freq_hz[j]:.4g} Hz (MAC {alike[j, k]:.3f})")
     return reasons
 

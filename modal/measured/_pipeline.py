@@ -409,8 +409,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     ``modes`` has a ``flag`` column, the reason :data:`NO_SPECTRAL_PEAK` added
     to an unsupported mode's reasons, and ``same spectral peak as ...`` to a
     mode that shares its peak and shape with a stronger one
-    (:func:`modal.identification.shared_peaks`; not where the selection
-    already named it ``same shape as ...``).
+    (:func:`modal.identification.shared_peaks`; a pair of which the
+    selection named one ``same shape as ...`` is left as it decided).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
     took them): the shapes are in the first channel's quantity, the spectrum
@@ -437,9 +437,9 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     if "flag" in modes:
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)
-        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], result.criteria.mac_min)
-        modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "",
-                                                           "" if f.startswith("same shape as") else second]))
+        shadows = flags.str.startswith("same shape as").to_numpy()
+        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], result.criteria.mac_min, shadows)
+        modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "", second]))
                                    for f, lack, second in zip(flags, lacking, shared)],
                                   index=modes.index, dtype=modes["flag"].dtype)
     return dataclasses.replace(result, modes=modes)

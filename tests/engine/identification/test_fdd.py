@@ -654,10 +654,12 @@ def support_rows(rows):
 def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     """Modes at 2.47 Hz (29 poles) and 2.61 Hz (23 poles) that the first
     singular value's peak at 2.466 Hz supports, shapes of MAC 0.9997: the
-    weaker is the other's second estimate. Each condition undone in turn
-    (shapes apart, another peak, the same frequency on the other singular
-    value, no peak at all) leaves both alone; a tie in poles goes to the
-    lower frequency; of three on one peak both weaker name the strongest."""
+    one farther from the peak is the other's second estimate, whatever
+    their poles. Each condition undone in turn (shapes apart, another peak,
+    the same frequency on the other singular value, no peak at all) leaves
+    both alone; as far from the peak, the one with more poles stays, as
+    many poles too, the lower frequency; of three on one peak both others
+    name the nearest."""
     from modal.identification import shared_peaks
 
     a = np.array([1.0, 0.6, -0.3])
@@ -668,16 +670,22 @@ def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     mac_ab = modal.mac(a[:, None], b[:, None])[0, 0]
     assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.98) == \
         ["", f"same spectral peak as 2.47 Hz (MAC {mac_ab:.3f})"]
-    assert shared_peaks(freq, one, np.column_stack([b, a]), [23, 29], 0.98)[0] == \
-        f"same spectral peak as 2.61 Hz (MAC {mac_ab:.3f})"  # the stronger decides, not the order
+    assert shared_peaks(freq, one, np.column_stack([a, b]), [10, 30], 0.98)[1].startswith("same spectral peak as 2.47")
+    assert shared_peaks([2.61, 2.47], one, np.column_stack([b, a]), poles[::-1], 0.98)[0] == \
+        f"same spectral peak as 2.47 Hz (MAC {mac_ab:.3f})"  # the peak decides, not the order
+    even = support_rows([(1, 2.5), (1, 2.5)])  # 2.25 and 2.75 Hz exactly 0.25 Hz from it
+    assert shared_peaks([2.25, 2.75], even, np.column_stack([a, b]), [12, 20], 0.98)[0].startswith(
+        "same spectral peak as 2.75")
+    assert shared_peaks([2.25, 2.75], even, np.column_stack([a, b]), [20, 20], 0.98)[1].startswith(
+        "same spectral peak as 2.25")
     assert shared_peaks(freq, one, np.column_stack([a, other]), poles, 0.98) == ["", ""]
     assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.99999) == ["", ""]  # mac_min is passed on
     assert shared_peaks(freq, support_rows([(1, 2.466), (1, 2.59)]), np.column_stack([a, b]), poles, 0.98) == ["", ""]
     assert shared_peaks(freq, support_rows([(1, 2.466), (2, 2.466)]), np.column_stack([a, b]), poles, 0.98) == ["", ""]
     none = support_rows([(0, np.nan), (0, np.nan)])
     assert shared_peaks(freq, none, np.column_stack([a, b]), poles, 0.98) == ["", ""]
-    tie = shared_peaks(freq, one, np.column_stack([a, b]), [20, 20], 0.98)
-    assert tie[0] == "" and tie[1].startswith("same spectral peak as 2.47")
+    tie = shared_peaks([2.25, 2.75], even, np.column_stack([a, b]), [20, 20], 0.98)
+    assert tie[0] == "" and tie[1] != ""
     at_bound = modal.auto_mac(np.column_stack([a, b]))[0, 1]
     assert shared_peaks(freq, one, np.column_stack([a, b]), poles, at_bound)[1].startswith("same spectral peak")
     three = support_rows([(1, 2.466)] * 3)
@@ -685,3 +693,8 @@ def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     assert flags[1] == "" and flags[0].startswith("same spectral peak as 2.47") and \
         flags[2].startswith("same spectral peak as 2.47")
     assert shared_peaks([], support_rows([]), np.empty((3, 0)), [], 0.98) == []
+    # a pair the selection decided (one named 'same shape as' the other) is left as it is, whichever it named
+    for shadows in ([True, False], [False, True]):
+        assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.98, shadows) == ["", ""]
+    flags = shared_peaks([2.40, 2.47, 2.61], three, np.column_stack([b, a, b]), [12, 29, 23], 0.98, [False, True, False])
+    assert flags[1] == "" and flags[0] == "" and flags[2].startswith("same spectral peak as 2.4 Hz")
