@@ -12,7 +12,8 @@ function of ``modal/identification/_fdd.py``: the singular-value spectrum
 (``fdd``, ``SingularValueSpectrum.df``, ``decibels``, ``peaks``,
 ``refined_hz``, ``supporting_peak``), the enhanced FDD (``efdd``,
 ``_efdd``, ``_window_correlation``), the support check
-(``support_tolerance_hz``, ``spectral_support``) and ``auto_mac``.
+(``support_tolerance_hz``, ``spectral_support``), two modes on one peak
+(``shared_peaks``) and ``auto_mac``.
 """
 
 from __future__ import annotations
@@ -25,12 +26,13 @@ import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_fdd.py"
 FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "supporting_peak", "fdd", "efdd", "_window_correlation", "_efdd",
-             "support_tolerance_hz", "spectral_support", "auto_mac")  # not the module's constants
+             "support_tolerance_hz", "spectral_support", "shared_peaks", "auto_mac")  # not the module's constants
 
 machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS]
 machinery.TESTS = {"_fdd.py": [  # the quickest first
     "tests/engine/identification/test_fdd.py",
     "tests/engine/measured/test_pipeline.py::test_spectral_witness_compares_shapes_in_each_channels_quantity",
+    "tests/engine/measured/test_pipeline.py::test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
     "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks",
     "tests/engine/measured/test_report.py::test_mac_csv_is_the_auto_mac_of_the_complex_shapes"]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_witness_equivalent.txt"

@@ -692,6 +692,9 @@ def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     flags = shared_peaks([2.40, 2.47, 2.61], three, np.column_stack([b, a, b]), [12, 29, 23], 0.98)
     assert flags[1] == "" and flags[0].startswith("same spectral peak as 2.47") and \
         flags[2].startswith("same spectral peak as 2.47")
+    # the reason names the nearest of several nearer modes, not the last in the table
+    flags = shared_peaks([2.47, 2.40, 2.61], three, np.column_stack([a, b, b]), [29, 12, 23], 0.98)
+    assert flags[0] == "" and flags[2].startswith("same spectral peak as 2.47")
     assert shared_peaks([], support_rows([]), np.empty((3, 0)), [], 0.98) == []
     # a pair the selection decided (one named 'same shape as' the other) is left as it is, whichever it named
     for shadows in ([True, False], [False, True]):
