@@ -175,7 +175,7 @@ def _rate_from_time(time, fs, path):
     if fs is None:
         if dt_time is None:
             raise ValueError(f"{path}: the time column (column 1) is not uniformly increasing; "
-                             "pass fs if column 1 is data")
+                             "pass fs (--fs) if column 1 is data")
         return dt_time
     dt = 1.0 / positive_float("fs", fs)
     if dt_time is not None and abs(dt_time - dt) > FS_WARN_RTOL * dt:
@@ -260,7 +260,8 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
         rows = rows[1:]
     if len(rows) < 2:
         raise ValueError(f"{path}: fewer than 2 rows of numbers (delimiter {delimiter or 'whitespace'!r}, "
-                         f"decimal {decimal!r}); pass delimiter=, decimal= or skip_rows=")
+                         f"decimal {decimal!r}); pass delimiter=, decimal= or skip_rows= "
+                         "(--delimiter, --decimal, --skip-rows)")
     width = len(rows[0][1])
     separated = "whitespace-separated values" if delimiter is None else f"values separated by {delimiter!r}"
     for k, (line, row) in enumerate(rows):
@@ -268,7 +269,7 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
             cut = " (the last row: is the file cut short?)" if k == len(rows) - 1 else ""
             raise ValueError(f"{path}: ragged rows (channels of unequal length): row {line} has {len(row)} {separated}, row {rows[0][0]} has "
                              f"{width}{cut}: every row must hold one value per column (a value missing or extra, "
-                             "or another delimiter: pass delimiter=)")
+                             "or another delimiter: pass delimiter=, --delimiter)")
     table = _fast_table(rows, decimal)
     slow = table is None
     if slow:
@@ -280,7 +281,7 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
             value = _number(cell, decimal)
             if value is None or not np.isfinite(value):
                 raise ValueError(f"{path}: row {line}, column {j + 1}: {cell.strip()!r} is not a finite number"
-                                 + ("" if decimal == "," else " (decimal commas: pass decimal=',')"))
+                                 + ("" if decimal == "," else " (decimal commas: pass decimal=',', --decimal ,)"))
             table[i, j] = value
     if _numeric_header(rows, table):
         table = table[1:]

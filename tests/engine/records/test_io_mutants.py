@@ -234,7 +234,7 @@ def test_ragged_rows_name_the_first_row_and_its_width(tmp_path):
         read_record(_text(tmp_path, ["101,102"] + _rows(",", 1) + [rows[1]]))
 
 
-@pytest.mark.parametrize("decimal, hint", [(".", " (decimal commas: pass decimal=',')"), (",", "")])
+@pytest.mark.parametrize("decimal, hint", [(".", " (decimal commas: pass decimal=',', --decimal ,)"), (",", "")])
 def test_a_cell_that_is_no_number_is_named_with_the_hint_that_fits(tmp_path, decimal, hint):
     rows = [row.replace(",", ";") for row in _rows(",")]
     rows[4] = rows[4].split(";")[0] + ";1e;2"
