@@ -140,8 +140,8 @@ class SingularValueSpectrum:
                 rows.append({"freq_hz": self.refined_hz(index, k + 1), "sv_number": k + 1, "bin": int(index),
                              "db": float(db[index, k]), "prominence_db": float(prominence),
                              "height_db": float(height)})
-        frame = pd.DataFrame(rows, columns=["freq_hz", "sv_number", "bin", "db", "prominence_db", "height_db"])
-        return frame.sort_values(["freq_hz", "sv_number"], ignore_index=True)
+        rows.sort(key=lambda row: (row["freq_hz"], row["sv_number"]))
+        return pd.DataFrame(rows, columns=["freq_hz", "sv_number", "bin", "db", "prominence_db", "height_db"])
 
     def refined_hz(self, index: int, sv_number: int = 1) -> float:
         """Frequency (Hz) of the local maximum at bin ``index`` of singular

@@ -44,6 +44,9 @@ QUANTITIES = {"displacement": 0, "velocity": 1, "acceleration": 2}
 #: A side band lies within its half-power half-width ``zeta f`` of ``f_p +- f_m``, the damping ratio taken within
 #: these bounds (a side band's own damping is no physical quantity: 0.01 % would ask for an exact coincidence).
 SIDE_BAND_ZETA = (0.001, 0.1)
+#: How the flag of the weaker of two modes of one shape and one resonance begins (:func:`_flags`); the
+#: spectral witness leaves a pair so decided alone (:func:`modal.measured.with_spectral_witness`).
+SAME_SHAPE = "same shape as"
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
 HANKEL_MAX_BYTES = 512 * 2**20
@@ -667,13 +670,14 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     mean = {name: np.bincount(inner, values, minlength=n_clusters) / count for name, values in groups.items()}
     below = mean["freq_hz"] < limit
     is_mode = (count >= min_poles) & below
-    above = pd.DataFrame({"freq_hz": mean["freq_hz"][(count >= min_poles) & ~below],
-                          "n_poles": count[(count >= min_poles) & ~below]}).sort_values("freq_hz", ignore_index=True)
-    is_candidate = ~is_mode & below & (2 * count >= min_poles) & (count >= 2)
-    candidates = pd.DataFrame({"freq_hz": mean["freq_hz"][is_candidate], "damping": mean["damping"][is_candidate],
-                               "n_poles": count[is_candidate], "min_poles": min_poles,
-                               "mpc": mean["mpc"][is_candidate], "mamc": mean["mamc"][is_candidate],
-                               "mpd": mean["mpd"][is_candidate]}).sort_values("freq_hz", ignore_index=True)
+    by_freq = np.argsort(mean["freq_hz"], kind="stable")  # the clusters by frequency, for the tables below
+    is_above = ((count >= min_poles) & ~below)[by_freq]
+    above = pd.DataFrame({"freq_hz": mean["freq_hz"][by_freq][is_above], "n_poles": count[by_freq][is_above]})
+    is_candidate = (~is_mode & below & (2 * count >= min_poles) & (count >= 2))[by_freq]
+    candidates = pd.DataFrame({name: values[by_freq][is_candidate] for name, values in (
+        ("freq_hz", mean["freq_hz"]), ("damping", mean["damping"]), ("n_poles", count),
+        ("min_poles", np.full(n_clusters, min_poles)), ("mpc", mean["mpc"]), ("mamc", mean["mamc"]),
+        ("mpd", mean["mpd"]))})
     if not np.any(is_mode):
         return labels, _empty(MODE_COLUMNS), np.empty((l, 0), dtype=complex), candidates, above
     second_of = _second_estimates(np.flatnonzero(is_mode), count, mean["freq_hz"], mean["damping"], clusters, member,
@@ -833,7 +837,7 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
                     and (n_poles[j], -j) > (n_poles[k], -k)]
         if stronger:
             j = max(stronger, key=lambda j: (n_poles[j], -j))
-            reasons.append(f"same shape as {freq[j]:.4g} Hz (MAC {mode_mac[j, k]:.3f})")
+            reasons.append(f"{SAME_SHAPE} {freq[j]:.4g} Hz (MAC {mode_mac[j, k]:.3f})")
         if mpc[k] < criteria.doubtful_mpc:
             reasons.append(f"low MPC {mpc[k]:.2f}")
         if mamc[k] < criteria.doubtful_mamc:

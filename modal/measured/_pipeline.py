@@ -420,7 +420,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     every channel measures the same quantity."""
     import dataclasses
 
-    from ..identification import QUANTITIES, shared_peaks, spectral_support
+    from ..identification import QUANTITIES, SAME_SHAPE, shared_peaks, spectral_support
 
     modes = result.modes
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
@@ -437,7 +437,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     if "flag" in modes:
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)
-        shadows = flags.str.startswith("same shape as").to_numpy()
+        shadows = flags.str.startswith(SAME_SHAPE).to_numpy()
         shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], result.criteria.mac_min, shadows)
         modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "", second]))
                                    for f, lack, second in zip(flags, lacking, shared)],

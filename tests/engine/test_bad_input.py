@@ -184,6 +184,29 @@ def test_constant_channel_is_refused(method, value):
         call()
 
 
+def test_a_constant_channel_is_told_from_one_that_ends_where_it_began():
+    """The check compares each channel sample by sample only where its last
+    sample equals its first: a channel that ends where it began but varies is
+    accepted, one constant only in its second data set is named with it, and
+    one that varies only in its last sample is not constant."""
+    from modal._checks import constant_channels
+
+    t = np.arange(400) * 0.01
+    y = np.stack([np.column_stack([np.sin(2 * np.pi * t), np.cos(3.1 * t), t]) for _ in range(2)])
+    y[:, -1, 0] = y[:, 0, 0]  # ends where it began, varies between
+    constant_channels("y", y)
+    y[1, :, 1] = 0.25
+    with pytest.raises(ValueError, match=r"y: channel 1 of data set 1 is constant \(0.25\)"):
+        constant_channels("y", y)
+    y[1, :, 1] = 0.25
+    y[1, -1, 1] = 0.5  # varies in its last sample only
+    y[0, 1:, 2] = y[0, -1, 2]  # varies in its first sample only
+    constant_channels("y", y)
+    y[0, 0, 2] = y[0, -1, 2]
+    with pytest.raises(ValueError, match="channel 2 of data set 0 is constant"):
+        constant_channels("y", y)
+
+
 def test_channels_first_is_refused():
     rec, _, dt = beam_record("irregular", 800)
     for call in (lambda y: modal.era(y, dt, 1, rows=2, cols=2), lambda y: modal.tcm(y, dt),
