@@ -291,3 +291,72 @@ def test_the_screen_tells_only_what_is_true():
                 told += 1
                 assert np.max(np.abs(d)) <= edge * _variation(d, deviation)
     assert told > 100
+
+
+@pytest.mark.parametrize("d, edge, told", [
+    ([-1.0, -1.0, 1.0, 1.0], 0.7, True),  # variation 1.4826: every |d| = 1 <= 0.7 x 1.4826, at an edge below 1
+    ([-100.0, -100.0, 100.0, 100.0], 0.7, True),  # the same a hundred times larger
+    ([-2.0, -2.0, 0.0, 0.1, 2.0, 2.0, -0.1], 1.0, True),  # 3 of 7 deviations below the level 1.35, fewer than 4
+    ([0.0, 0.0, 3.0, -3.0], 1.0, False),  # 2 of 4 below the level: the median of 4 may be too (variation 2.22 < 3)
+    ([0.0, 0.0, 0.0, 3.0, -3.0], 1.0, False),  # 3 of 5 below the level: the median is (variation 1.50 < 3)
+    ([-1.0, -1.0, 1.0, 1.0], 0.0, False),  # no edge: no |d| is within it
+    ([-1.0, -1.0, 1.0, 1.0], -0.7, False),
+    ([1.0, -1.0, np.inf, -1.0, 1.0], 6.25, False),  # an infinite second difference
+    ([-1.5e-323, -1.5e-323, 1.5e-323, 1.5e-323], 0.6, False),  # subnormal: the level's rounding fails the check
+    ([], 6.25, False),
+], ids=["pairs", "pairs x 100", "3 of 7 below", "2 of 4 below", "3 of 5 below", "edge 0", "edge < 0", "infinite",
+        "subnormal", "empty"])
+def test_the_screen_on_second_differences_small_enough_to_check_by_hand(d, edge, told):
+    """``_within`` on a few second differences whose answer is known: True
+    where every ``|d| <= edge x variation`` and fewer than half of the
+    deviations are at or below the level ``max|d| / (1.4826 edge)``, False
+    where as many as half are (the median may be below the level), where the
+    edge is not positive, a ``d`` is not finite, the level's rounding fails
+    its check, or there is none; the rule agrees with each answer."""
+    from modal.records._quality import _variation, _within
+
+    d = np.array(d, dtype=float)
+    deviation = np.abs(d - np.median(d)) if d.size else d
+    assert _within(d, deviation, edge) is told
+    if d.size:
+        assert bool(np.max(np.abs(d)) <= edge * _variation(d, deviation)) is told
+
+
+def test_the_statistic_is_the_departure_over_the_channel_variation_whatever_its_curvature():
+    """A one-sample spike of 100 on unit noise and a parabola (a steady
+    curvature: every second difference -2 besides the noise's): its
+    statistic is its second difference over the channel's variation,
+    1.4826 x the median absolute deviation of all the second differences
+    but the two ends' about their median (the curvature does not count),
+    here larger than the local one (32 second differences each side, clear
+    of the run)."""
+    n, at = 301, 150
+    rng = np.random.default_rng(1)
+    y = rng.standard_normal(n) + 2.0 * (np.arange(n) - at) ** 2
+    y[at] += 100.0
+    d = np.zeros(n)
+    d[1:-1] = y[1:-1] - (y[:-2] + y[2:]) / 2
+
+    def spread(x):
+        return _MAD_TO_SIGMA * np.median(np.abs(x - np.median(x)))
+
+    variation = spread(d[1:-1])
+    assert variation > max(spread(d[at - 33:at - 1]), spread(d[at + 2:at + 34]))
+    [(first, last, statistic)] = _spike_runs(y)
+    assert (first, last) == (at, at)
+    assert statistic == pytest.approx(d[at] / variation, rel=1e-12)
+    assert statistic == pytest.approx(81.16, abs=0.01)
+
+
+def test_a_dead_channel_has_no_spike_and_the_others_are_still_checked():
+    """A constant channel (a dead sensor): every second difference is 0, no
+    variation, no spike; the spike of the channel beside it is found and
+    replaced, the dead one left as it is."""
+    acc = _smooth()[:, :2]
+    acc[:, 0] = 0.25
+    acc[7_777, 1] += 20 * acc[:, 1].std()
+    found = spike_samples(acc)
+    assert [list(at) for at in found] == [[], [7_777]]
+    out = despiked(acc, found)
+    np.testing.assert_array_equal(out[:, 0], 0.25)
+    np.testing.assert_allclose(out[7_777, 1], (acc[7_776, 1] + acc[7_778, 1]) / 2, rtol=0, atol=1e-15)
