@@ -19,6 +19,7 @@ from __future__ import annotations
 import csv
 import re
 import stat
+import unicodedata
 import warnings
 import zipfile
 from dataclasses import dataclass, field
@@ -169,13 +170,63 @@ def _time_step(time: np.ndarray) -> float | None:
     return float(dt) if np.max(np.abs(np.diff(time) - dt)) <= tolerance else None
 
 
-def _rate_from_time(time, fs, path):
-    """``dt`` from a time column, overridden by ``fs`` when given."""
+#: Seconds per unit of a text file's time column, by the unit its header names.
+TIME_UNITS = {"s": 1.0, "sec": 1.0, "secs": 1.0, "second": 1.0, "seconds": 1.0,
+              "ms": 1e-3, "msec": 1e-3, "millisecond": 1e-3, "milliseconds": 1e-3,
+              "us": 1e-6, "usec": 1e-6, "microsecond": 1e-6, "microseconds": 1e-6,
+              "min": 60.0, "minute": 60.0, "minutes": 60.0, "h": 3600.0, "hour": 3600.0, "hours": 3600.0}
+#: Names of a time column (lower case), alone or with a unit (``Time [ms]``, ``time/s``); a bare ``t`` only
+#: with a unit (``t_ms``, ``t [s]``): alone it may name a channel (transverse).
+TIME_NAMES = ("time", "times", "timestamp", "zeit", "temps", "tiempo", "tempo", "tid", "czas")
+#: Names of a first column that counts samples (lower case): it gives no rate.
+SAMPLE_NAMES = ("sample", "samples", "sample no", "sample number", "index", "#")
+_UNIT_IN_NAME = re.compile(r"^(?P<name>[^\[\(/_]*?)\s*(?:[\[\(](?P<bracketed>[^\]\)]*)[\]\)]|[/_](?P<suffix>\S+))?$")
+
+
+def _first_column(headers) -> tuple[str | None, float | None, str]:
+    """What a text file's header says of its first column: ``"time"``,
+    ``"samples"`` (a sample counter) or None (nothing: time if it is uniform
+    and data otherwise); the seconds per unit of a time column's values (a
+    time named in ms, µs, min or h, as ``Time [ms]``, ``t_ms`` or a units row
+    ``ms``, is scaled to seconds; None for a unit not known); and the header
+    cell that said so."""
+    kind, scale, said = None, 1.0, ""
+    for row in headers:
+        cell = unicodedata.normalize("NFKC", row[0] if row else "").strip().replace("\u03bc", "u")
+        key = cell.lower()
+        if key in SAMPLE_NAMES:
+            kind, said = "samples", cell
+            continue
+        if key.strip("[]() ") in TIME_UNITS:  # a units row: "ms", "[s]"
+            kind, scale, said = "time", TIME_UNITS[key.strip("[]() ")], cell
+            continue
+        match = _UNIT_IN_NAME.match(key)
+        unit = match and (match["bracketed"] or match["suffix"] or "").strip()
+        if match and (match["name"].strip() in TIME_NAMES or match["name"].strip() == "t" and unit):
+            kind, scale, said = "time", TIME_UNITS.get(unit) if unit else scale, cell
+    return kind, scale, said
+
+
+def _gap(time: np.ndarray) -> str:
+    """Where a time column departs most from its median step: ``"the step
+    after t = 2.99 (data row 300) is 2.01 against a median of 0.01"``."""
+    steps = np.diff(time)
+    median = float(np.median(steps))
+    k = int(np.argmax(np.abs(steps - median)))
+    return f"the step after t = {time[k]:.6g} (data row {k + 1}) is {steps[k]:.6g} against a median of {median:.6g}"
+
+
+def _rate_from_time(time, fs, path, named=False):
+    """``dt`` from a time column, overridden by ``fs`` when given (a
+    column the header ``named`` as time must be uniform either way: a record
+    with a gap is not one evenly sampled record)."""
     dt_time = _time_step(time)
+    if dt_time is None and (fs is None or named):
+        advice = ("the record is not evenly sampled there: cut it into its continuous parts" if named else
+                  "a gap or a drifting clock? Cut the record into its continuous parts; if column 1 is data, "
+                  "not time, pass fs (--fs)")
+        raise ValueError(f"{path}: the time column (column 1) is not uniformly increasing: {_gap(time)}; {advice}")
     if fs is None:
-        if dt_time is None:
-            raise ValueError(f"{path}: the time column (column 1) is not uniformly increasing; "
-                             "pass fs (--fs) if column 1 is data")
         return dt_time
     dt = 1.0 / positive_float("fs", fs)
     if dt_time is not None and abs(dt_time - dt) > FS_WARN_RTOL * dt:
@@ -286,8 +337,16 @@ def _load_csv(path: Path, fs, delimiter=None, decimal=".", skip_rows=0):
     if _numeric_header(rows, table):
         table = table[1:]
     names = _header_names(headers, width)
-    if width >= 2 and (fs is None or _time_step(table[:, 0]) is not None):
-        dt = _rate_from_time(table[:, 0], fs, path)
+    first, scale, said = _first_column(headers)
+    if first == "samples" or scale is None:  # a first column whose step is no sampling interval in seconds
+        if fs is None:
+            what = "counts samples" if first == "samples" else "holds time in a unit other than h, min, ms, s, us"
+            raise ValueError(f"{path}: column 1 ({said!r}) {what}: {GIVE_FS}, or write the time in s")
+        _rate_from_time(table[:, 0], None, path, named=True)  # uniform, or its gap is named
+        dt, acc, names = 1.0 / positive_float("fs", fs), table[:, 1:], names and names[1:]
+    elif width >= 2 and (fs is None or first == "time" or _time_step(table[:, 0]) is not None):
+        table[:, 0] *= scale
+        dt = _rate_from_time(table[:, 0], fs, path, named=first == "time")
         acc, names = table[:, 1:], names and names[1:]
     elif fs is None:
         raise ValueError(f"{path}: without fs the first column must be time (s), followed by channels")

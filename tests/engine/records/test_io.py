@@ -296,3 +296,65 @@ def test_a_bad_cell_is_named_also_when_the_rest_is_numbers(tmp_path, acc):
     path.write_text("\n".join(lines) + "\n")
     with pytest.raises(ValueError, match=r"row 41, column 2: 'nan' is not a finite number"):
         read_record(path, fs=200)
+
+
+def _timed(tmp_path, name, header, time, acc):
+    path = tmp_path / name
+    path.write_text(header + "".join(",".join(repr(float(v)) for v in (t, *row)) + "\n" for t, row in zip(time, acc)))
+    return path
+
+
+@pytest.mark.parametrize("header, per_second", [
+    ("t_ms,a,b,c\n", 1e3), ("Time [ms],a,b,c\n", 1e3), ("time,a,b,c\nms,g,g,g\n", 1e3), ("Zeit/ms,a,b,c\n", 1e3),
+    ("Time (µs),a,b,c\n", 1e6), ("time [min],a,b,c\n", 1 / 60), ("t,a,b,c\n[s],g,g,g\n", 1.0), ("Time [s],a,b,c\n", 1.0),
+])
+def test_a_time_column_in_ms_or_min_is_read_in_seconds(tmp_path, acc, header, per_second):
+    """A time column whose header names its unit is scaled to seconds: a
+    millisecond column read as seconds made every frequency 1000 times too
+    low, silently."""
+    record = read_record(_timed(tmp_path, "r.csv", header, DT * np.arange(len(acc)) * per_second, acc))
+    assert record.dt == pytest.approx(DT, rel=1e-12)
+    np.testing.assert_array_equal(record.acc, acc)
+
+
+def test_a_sample_counter_or_an_unknown_time_unit_needs_fs(tmp_path, acc):
+    """A first column that counts samples, or holds time in a unit not known,
+    gives no rate: refused without fs (its step of 1 would read as 1 Hz),
+    dropped with it; the rate is fs."""
+    for name, header in (("n.csv", "Sample,a,b,c\n"), ("k.csv", "Time [ticks],a,b,c\n")):
+        path = _timed(tmp_path, name, header, np.arange(len(acc)), acc)
+        with pytest.raises(ValueError, match=rf"{name}: column 1 \('(Sample|Time \[ticks\])'\) (counts samples|holds "
+                                             r"time in a unit other than h, min, ms, s, us): give the sampling rate"):
+            read_record(path)
+        record = read_record(path, fs=200)
+        assert record.dt == DT
+        np.testing.assert_array_equal(record.acc, acc)
+
+
+def test_a_gap_in_the_time_column_is_located_and_a_named_time_column_is_never_data(tmp_path, acc):
+    """A record with a gap is refused with where the gap is; a column the
+    header names time is refused with fs too (before, fs read it as a
+    channel); a first column not named time stays data with fs, even one
+    named ``T`` (transverse) that is not uniform."""
+    time = DT * np.arange(len(acc))
+    time[30:] += 0.5  # 100 samples missing after t = 0.145 s
+    where = r"the step after t = 0.145 \(data row 30\) is 0.505 against a median of 0.005"
+    named = _timed(tmp_path, "named.csv", "Time [s],a,b,c\n", time, acc)
+    for fs in (None, 200):
+        with pytest.raises(ValueError, match=rf"named.csv: .*not uniformly increasing: {where}; the record is not "
+                                             "evenly sampled there"):
+            read_record(named, fs=fs)
+    for name, header in (("plain.csv", ""), ("transverse.csv", "T,a,b,c\n")):
+        path = _timed(tmp_path, name, header, time, acc)
+        with pytest.raises(ValueError, match=rf"{name}: .*{where}; a gap or a drifting clock\? .*pass fs \(--fs\)"):
+            read_record(path)
+        record = read_record(path, fs=200)
+        assert record.acc.shape == (len(acc), 4)
+        np.testing.assert_array_equal(record.acc[:, 0], time)
+    counter = _timed(tmp_path, "counter.csv", "Sample,a,b,c\n", time / DT, acc)
+    with pytest.raises(ValueError, match=r"counter.csv: .*the step after t = 29 \(data row 30\) is 101 against"):
+        read_record(counter, fs=200)
+    restart = DT * np.arange(len(acc))
+    restart[40:] -= 0.1  # the clock set back: the step that departs most is negative
+    with pytest.raises(ValueError, match=r"the step after t = 0.195 \(data row 40\) is -0.095 against a median of 0.005"):
+        read_record(_timed(tmp_path, "restart.csv", "time,a,b,c\n", restart, acc))
