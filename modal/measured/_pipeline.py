@@ -297,6 +297,12 @@ def identify_record(
     acc = np.asarray(acc)
     if acc.ndim != 2:
         raise ValueError(f"acc must be a record of shape (n_samples, n_channels), got shape {acc.shape}")
+    if acc.shape[0] < acc.shape[1]:
+        raise ValueError(f"acc of shape {acc.shape} reads as {acc.shape[0]} samples of {acc.shape[1]} channels; the "
+                         "layout is (n_samples, n_channels): transpose it (acc.T)")
+    if options.fs is not None and abs(options.fs * dt - 1) > 1e-9:
+        raise ValueError(f"options.fs = {options.fs:g} Hz contradicts dt = {dt:g} s ({1 / dt:g} Hz): "
+                         "identify_record takes the sampling interval dt; give one rate")
     options.check_record(acc.shape[1], 1 / dt)
     channels, refs = options.channel_choice(acc.shape[1])
     if options.channels is not None:

@@ -23,6 +23,9 @@ from .._checks import printable
 
 #: Damping ratio to the report's unit, % of critical.
 PERCENT = 100.0
+#: A supporting peak's singular vector is this mode's shape when their MAC is at least this; below, the
+#: sentence of why a mode is believed says the peak's shape is another (a neighbour's, or two modes mixed).
+SHAPE_AGREES = 0.8
 #: Columns of a record's modes shown, in order, with their headings (those
 #: absent from a table are skipped).
 MODE_HEADINGS = {
@@ -108,11 +111,16 @@ def evidence(modes: pd.DataFrame, n_orders: int) -> list[str]:
             parts.append(f"MPC {row['mpc']:.2f}")
         if "spectral_support" in row:
             if row["spectral_support"]:
-                which = "first" if int(row["sv_number"]) == 1 else f"singular value {int(row['sv_number'])}'s"
-                parts.append(f"a {which} singular-value peak at {row['sv_peak_hz']:.4g} Hz "
-                             f"(shape MAC {row['sv_mac']:.2f} with its singular vector)")
+                number = int(row["sv_number"])
+                which = {1: "first", 2: "second", 3: "third"}.get(number, f"{number}th")
+                alike = row["sv_mac"] >= SHAPE_AGREES
+                parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz "
+                             + (f"(shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
+                                f"whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
+                                "another mode's peak, or two modes in one"))
                 if np.isfinite(row.get("efdd_freq_hz", np.nan)):
-                    parts.append(f"EFDD {row['efdd_freq_hz']:.4g} Hz, damping {PERCENT * row['efdd_damping']:.2g} %")
+                    parts.append(f"that peak's EFDD cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
+                                 f"{PERCENT * row['efdd_damping']:.2g} %")
             else:
                 parts.append("no singular-value peak near it")
         flag = row.get("flag")

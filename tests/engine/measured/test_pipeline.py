@@ -155,6 +155,14 @@ def test_identify_record_refusals_name_the_argument():
             modal.identify_record(acc, **({"dt": 0.01, "excitation": "ambient", "rows": 20} | kwargs))
     (result, dt), _ = _run(modal.identify_record, acc, 0.01, "ambient", max_order=2, rows=20, fmax=49.9)
     assert dt == 0.01 and set(result.poles["order"]) <= {2}
+    # channels first (the reader's layout check, also in the API), and fs given twice, unalike
+    with pytest.raises(ValueError, match=r"^acc of shape \(2, 1000\) reads as 2 samples of 1000 channels; .*acc\.T"):
+        modal.identify_record(acc.T, 0.01, "ambient")
+    with pytest.raises(ValueError, match=r"^options.fs = 50 Hz contradicts dt = 0.01 s \(100 Hz\)"):
+        modal.identify_record(acc, 0.01, modal.IdentifyOptions(excitation="ambient", fs=50.0, rows=20))
+    (result, dt), _ = _run(modal.identify_record, acc, 0.01, modal.IdentifyOptions(
+        excitation="ambient", fs=100.0, rows=20, max_order=2, fmax=49.9))
+    assert dt == 0.01
 
 
 def test_spectral_witness_compares_shapes_in_each_channels_quantity():

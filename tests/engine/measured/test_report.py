@@ -154,3 +154,25 @@ def test_blas_is_held_to_one_thread_unless_the_environment_says(monkeypatch):
     monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")
     with blas_threads():
         assert _blas_threads() == before
+
+
+def test_the_evidence_names_the_peak_and_says_when_its_shape_is_another():
+    """Each mode's sentence names the singular value that peaks (first,
+    second), and a supporting peak whose singular vector is not the mode's
+    shape is said to be so, not cited as a reason to believe it; the EFDD
+    damping is the peak's cross-check, not the mode's."""
+    from modal.measured._report import SHAPE_AGREES, evidence
+
+    modes = pd.DataFrame({"mode": [1, 2, 3], "freq_hz": [2.5, 2.576, 6.0], "n_poles": [28, 12, 20],
+                          "spectral_support": [True, True, False], "sv_number": [1, 2, 0],
+                          "sv_peak_hz": [2.515, 2.515, np.nan], "sv_mac": [0.999, 0.02, np.nan],
+                          "efdd_freq_hz": [2.509, np.nan, np.nan], "efdd_damping": [0.0033, np.nan, np.nan],
+                          "flag": ["", "", "no spectral peak"]})
+    first, second, third = evidence(modes, 30)
+    assert "a peak of the first singular value at 2.515 Hz (shape MAC 1.00 with its singular vector)" in first
+    assert "that peak's EFDD cross-check 2.509 Hz and damping 0.33 %" in first
+    assert ("a peak of the second singular value at 2.515 Hz whose singular vector is not this shape (MAC 0.02)"
+            in second) and "shape MAC" not in second
+    assert "no singular-value peak near it" in third and third.endswith("Doubtful: no spectral peak.")
+    modes.loc[1, "sv_mac"] = SHAPE_AGREES  # at the bound the shape agrees
+    assert "(shape MAC 0.80 with its singular vector)" in evidence(modes, 30)[1]
