@@ -11,7 +11,7 @@ its spectral witness, frequency domain decomposition (:func:`fdd`).
 from ._cera import cera
 from ._era import era
 from ._era_kernels import decompose
-from ._fdd import SingularValueSpectrum, auto_mac, efdd, fdd, shared_peaks, spectral_support
+from ._fdd import SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd, shared_peaks, spectral_support
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
@@ -19,7 +19,7 @@ from ._result import FLAGS, ModalResult, ModalWarning, normalise_shapes
 from ._stabilisation import QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure), SAME_SHAPE, segment_std, normalise_shapes and shared_peaks are importable
+# QUANTITIES (what a channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
 # campaign averages shapes by the identification's scaling; the witness of a record names modes on one
 # peak and leaves the selection's same-shape pairs alone); the names below are also re-exported by modal.

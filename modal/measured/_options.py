@@ -105,8 +105,9 @@ class IdentifyOptions:
         MAX_ORDER, f"largest model order, even (default {MAX_ORDER})",
         {"type": "integer", "minimum": 2, "multipleOf": 2}, 40, "--max-order", "N")
     rows: int | None = _option(
-        None, "block rows of the Hankel matrix (default: three periods of the record's lowest spectral peak "
-              "without fmax; 60, or 2 max_order / channels if more, with it)",
+        None, "block rows of the Hankel matrix (default: one period of the record's lowest spectral peak "
+              "without fmax, at least 2 max_order / channels; three and at least 60 for a free decay; "
+              "60, or 2 max_order / channels if more, with fmax)",
         {"type": ["integer", "null"], "minimum": 1}, 80, "--rows", "N")
     highpass_hz: float | None = _option(
         None, "zero-phase high-pass before identification (Hz), below fmax",

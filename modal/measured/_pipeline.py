@@ -16,13 +16,23 @@ from ..identification import ModalWarning, Stabilisation, StabilityCriteria, sta
 from ..records import clipping_warnings, despiked, spike_samples, spike_warnings
 from ._options import IdentifyOptions, identify_options
 
-#: Without ``fmax`` and ``rows``, the Hankel matrix spans this many periods of
-#: the record's lowest spectral peak ...
-AUTO_PERIODS = 3
-#: ... in about this many block rows: the record is decimated to about
-#: ``AUTO_ROWS / AUTO_PERIODS`` samples per period of that peak (at most), so
-#: the band kept reaches some ``AUTO_ROWS / (2.5 AUTO_PERIODS)`` = 27 times it.
-AUTO_ROWS = 200
+#: Without ``fmax`` and ``rows``, the block rows span this many periods of the
+#: record's lowest spectral peak (a common guideline for SSI-cov asks at least
+#: half a period of the lowest mode, ``i >= fs / (2 f_0)``: Rainieri and
+#: Fabbrocino 2014), and
+#: no fewer than ``2 max_order / channels`` (the Hankel matrix must hold the
+#: highest order). Longer lags add the correlations' random error where a mode
+#: has decayed: on 2-minute simulated records three periods (at least 60 rows)
+#: found 35 of 60 modes damped 6-10 % and 23 of 60 in pairs 0.8 % apart, one
+#: period 46 and 32, the other kinds as many (docs/benchmarks.md) ...
+AUTO_PERIODS = 1
+#: ... for ambient records; a free decay's keep three periods, and at least 60
+#: rows (the rule the benchmark above did not try on decays).
+DECAY_PERIODS = 3
+#: ... and the record is decimated to about this many samples per period of
+#: that peak (at most), so the band kept reaches some ``AUTO_SAMPLES / 2.5``
+#: = 27 times it.
+AUTO_SAMPLES = 200 / 3
 #: Ambient records are also cut into this many non-overlapping segments,
 #: whose correlations give the standard deviation of each frequency and
 #: damping (:func:`modal.identification.segment_std`): fewer when a segment
@@ -224,9 +234,10 @@ def identify_record(
 
     Without ``fmax`` and ``rows`` the settings come from the record: the
     lowest prominent peak of its spectrum (:func:`lowest_peak_hz`) sets the
-    block rows so the Hankel matrix spans :data:`AUTO_PERIODS` of its
-    periods, and the record is decimated so that takes about
-    :data:`AUTO_ROWS` rows; ``log`` says what was chosen.
+    block rows so they span :data:`AUTO_PERIODS` of its periods (at least
+    ``2 max_order / channels``; a free decay :data:`DECAY_PERIODS`, at least
+    60), the record decimated to about
+    :data:`AUTO_SAMPLES` samples per period; ``log`` says what was chosen.
 
     :func:`stabilisation` with ``rows`` block rows and as many columns as the
     data allow (free decay: at most ``10 rows``, the decay is then long gone
@@ -338,14 +349,18 @@ def identify_record(
             log(f"no spectral peak found: {min_rows} block rows, no decimation")
             rows = min_rows
         else:
-            factor = max(1, int(1 / (dt * AUTO_ROWS * low / AUTO_PERIODS)))
+            factor = max(1, int(1 / (dt * AUTO_SAMPLES * low)))
             if factor >= 2:
                 y, dt = decimate(y, dt, factor)
                 chosen["decimation"] = factor
-            rows = max(min_rows, math.ceil(AUTO_PERIODS / (low * dt)))
+            if excitation == "ambient":
+                rows = max(math.ceil(2 * max_order / n_channels), math.ceil(AUTO_PERIODS / (low * dt)))
+            else:
+                rows = max(min_rows, math.ceil(DECAY_PERIODS / (low * dt)))
+            span = f"{rows * dt * low:.2g}"
             log(f"lowest spectral peak {low:.4g} Hz: {rows} block rows span {rows * dt:.3g} s "
-                f"({AUTO_PERIODS} periods of it)" + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "")
-                + " (set --fmax and --rows to choose)")
+                f"({span} period{'' if span == '1' else 's'} of it)"
+                + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "") + " (set --fmax and --rows to choose)")
     if options.highpass_hz is not None:
         log(f"high-pass at {options.highpass_hz:g} Hz")
         y = zero_phase_filter(y, dt, highpass_hz=options.highpass_hz)
@@ -426,7 +441,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
     every channel measures the same quantity."""
     import dataclasses
 
-    from ..identification import QUANTITIES, SAME_SHAPE, shared_peaks, spectral_support
+    from ..identification import QUANTITIES, SAME_SHAPE, SHARED_PEAK_MAC, shared_peaks, spectral_support
 
     modes = result.modes
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
@@ -444,7 +459,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
         flags = modes["flag"].fillna("").astype(str)
         lacking = ~support["spectral_support"].to_numpy(dtype=bool)
         shadows = flags.str.startswith(SAME_SHAPE).to_numpy()
-        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], result.criteria.mac_min, shadows)
+        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows)
         modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "", second]))
                                    for f, lack, second in zip(flags, lacking, shared)],
                                   index=modes.index, dtype=modes["flag"].dtype)

@@ -277,7 +277,7 @@ def test_documented_defaults():
 
     assert _era_kernels.REAL_POLE_TOL == 1e-10
     assert (_result.GUIDELINE_PERIODS, _result.ALIAS_MARGIN) == (6, 0.02)
-    assert (_pipeline.AUTO_PERIODS, _pipeline.AUTO_ROWS) == (3, 200)
+    assert (_pipeline.AUTO_PERIODS, _pipeline.DECAY_PERIODS, _pipeline.AUTO_SAMPLES) == (1, 3, 200 / 3)
 
 
 def test_svd_auto_counts_the_cost_of_both_routes():

@@ -434,17 +434,19 @@ def ambient_record(fs=128, seconds=60, seed=22):
 @pytest.mark.parametrize("low, max_order, lines, dt_factor", [
     (None, 10, ["no spectral peak found: 60 block rows, no decimation"], 1),
     (None, 80, ["no spectral peak found: 80 block rows, no decimation"], 1),
-    (0.75, 10, ["lowest spectral peak 0.75 Hz: 256 block rows span 4 s (3 periods of it), decimated by 2 to 64 Hz "
+    (0.75, 10, ["lowest spectral peak 0.75 Hz: 86 block rows span 1.34 s (1 period of it), decimated by 2 to 64 Hz "
                 "(set --fmax and --rows to choose)"], 2),
-    (3.0, 10, ["lowest spectral peak 3 Hz: 128 block rows span 1 s (3 periods of it) "
+    (3.0, 10, ["lowest spectral peak 3 Hz: 43 block rows span 0.336 s (1 period of it) "
                "(set --fmax and --rows to choose)"], 1),
-    (0.4, 10, ["lowest spectral peak 0.4 Hz: 240 block rows span 7.5 s (3 periods of it), decimated by 4 to 32 Hz "
+    (3.0, 100, ["lowest spectral peak 3 Hz: 100 block rows span 0.781 s (2.3 periods of it) "
+                "(set --fmax and --rows to choose)"], 1),
+    (0.4, 10, ["lowest spectral peak 0.4 Hz: 80 block rows span 2.5 s (1 period of it), decimated by 4 to 32 Hz "
                "(set --fmax and --rows to choose)"], 4),
 ])
 def test_settings_from_the_lowest_peak(monkeypatch, low, max_order, lines, dt_factor):
     """Without fmax and rows: rows span AUTO_PERIODS periods of the lowest
-    peak (at least the minimum rows), the record decimated to about
-    AUTO_ROWS / AUTO_PERIODS samples per period; the choice is logged."""
+    peak (at least 2 max_order / channels), the record decimated to about
+    AUTO_SAMPLES samples per period; the choice is logged."""
     monkeypatch.setattr(_pipeline, "lowest_peak_hz", lambda y, dt: low)
     acc, dt = ambient_record()
     log = []
@@ -455,6 +457,29 @@ def test_settings_from_the_lowest_peak(monkeypatch, low, max_order, lines, dt_fa
         _, dt_used = modal.identify_record(acc, dt, "ambient", max_order=max_order, log=log.append)
     assert dt_used == dt * dt_factor
     assert [line for line in log if line.startswith(("lowest spectral", "no spectral"))] == lines
+
+
+@pytest.mark.parametrize("max_order, line", [
+    (10, "lowest spectral peak 3 Hz: 128 block rows span 1 s (3 periods of it) (set --fmax and --rows to choose)"),
+    (10, None), (140, "lowest spectral peak 3 Hz: 140 block rows span 1.09 s (3.3 periods of it) "
+                      "(set --fmax and --rows to choose)")])
+def test_a_free_decay_keeps_three_periods_and_sixty_rows(monkeypatch, max_order, line):
+    """A free decay's rows span DECAY_PERIODS periods of the lowest peak and
+    at least 60 and ``2 max_order / channels`` (the ambient rule was
+    measured on ambient records only); at 8 Hz, 3 periods would be 9 rows: 60."""
+    monkeypatch.setattr(_pipeline, "lowest_peak_hz", lambda y, dt: 3.0 if line else 8.0 / 3)
+    acc, dt = ambient_record()
+    acc = acc * np.exp(-np.arange(len(acc)) * dt / 20)[:, None]
+    if line is None:
+        acc, dt = acc[::16], dt * 16  # 8 Hz
+    log = []
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        modal.identify_record(acc, dt, "free_decay", max_order=max_order, log=log.append)
+    expected = line or "lowest spectral peak 2.667 Hz: 60 block rows span 7.5 s (20 periods of it) (set --fmax and --rows to choose)"
+    assert [entry for entry in log if entry.startswith("lowest spectral")] == [expected]
 
 
 def test_rows_given_with_fmax_are_kept():
