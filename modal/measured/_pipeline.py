@@ -153,7 +153,7 @@ def available_memory() -> int:
     return available
 
 
-def memory_needed(n_samples, n_channels, rows, cols, n_refs=None) -> dict:
+def memory_needed(n_samples, n_channels, rows, cols, n_refs=None, max_order=None) -> dict:
     """Peak bytes of the identification's large arrays (float64), by stage.
 
     - ``correlations`` (ambient, ``n_refs`` given): ``n_refs x n_lags x
@@ -163,10 +163,15 @@ def memory_needed(n_samples, n_channels, rows, cols, n_refs=None) -> dict:
       data sets, or 1 for a free decay);
     - ``svd``: the thin SVD of ``H(0)`` (``l r x m s``): LAPACK's copy of it
       and both singular-vector matrices (the Gram route needs less, but may
-      fall back on it).
+      fall back on it);
+    - ``poles`` (``max_order`` given): the modal histories of every pole of
+      every order ``2, 4, ..., max_order`` over the ``m s`` columns (for the
+      MAMC), real for each of the ``(max_order / 2) (max_order / 2 + 1)``
+      eigenvalues and complex for one of each conjugate pair.
 
     ``peak`` is the larger of the correlation stage and what is held at once
-    during the SVD (correlations, Hankel matrix, SVD).
+    during the SVD or the poles (correlations, Hankel matrix, the larger of
+    SVD and poles).
     """
     import scipy.fft
 
@@ -183,7 +188,11 @@ def memory_needed(n_samples, n_channels, rows, cols, n_refs=None) -> dict:
     parts["hankel"] = 8 * (rows + 1) * n_channels * h_cols
     k = min(h_rows, h_cols)
     parts["svd"] = 8 * (h_rows * h_cols + h_rows * k + k * h_cols)
-    parts["peak"] = max(parts.get("correlations", 0), corr_result + parts["hankel"] + parts["svd"])
+    if max_order is not None:
+        half = max_order // 2
+        parts["poles"] = 16 * half * (half + 1) * h_cols
+    parts["peak"] = max(parts.get("correlations", 0),
+                        corr_result + parts["hankel"] + max(parts["svd"], parts.get("poles", 0)))
     return parts
 
 
@@ -191,8 +200,8 @@ def _gb(n_bytes) -> str:
     return f"{n_bytes / 1e9:.3g} GB" if n_bytes >= 1e8 else f"{n_bytes / 1e6:.3g} MB"
 
 
-def _refuse_beyond_memory(n_samples, n_channels, rows, cols, n_refs) -> None:
-    need = memory_needed(n_samples, n_channels, rows, cols, n_refs)
+def _refuse_beyond_memory(n_samples, n_channels, rows, cols, n_refs, max_order) -> None:
+    need = memory_needed(n_samples, n_channels, rows, cols, n_refs, max_order)
     have = available_memory()
     if need["peak"] > have:
         m = 1 if n_refs is None else n_refs
@@ -202,9 +211,13 @@ def _refuse_beyond_memory(n_samples, n_channels, rows, cols, n_refs) -> None:
                           f"through cross-spectra: {_gb(need['correlations'])}")
         detail.append(f"Hankel matrix {(rows + 1) * n_channels} x {cols * m}: {_gb(need['hankel'])}")
         detail.append(f"its SVD: {_gb(need['svd'])}")
+        half = max_order // 2
+        detail.append(f"the modal histories of {half * (half + 1)} eigenvalues (orders 2 ... {max_order}): "
+                      f"{_gb(need['poles'])}")
         raise ValueError(
             f"the identification would need about {_gb(need['peak'])} of memory ({'; '.join(detail)}), "
-            f"only {_gb(have)} available: use fewer channels or references (--channels, --refs) or fewer rows")
+            f"only {_gb(have)} available: use fewer channels or references (--channels, --refs), fewer rows "
+            "or a lower --max-order")
 
 
 def identify_record(
@@ -370,7 +383,7 @@ def identify_record(
             raise ValueError(f"rows = {rows} needs {n_lags} lags, more than half the {y.shape[0]}-sample record: "
                              "reduce rows or give a longer record")
         n_refs = n_channels if refs is None else len(refs)
-        _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs)
+        _refuse_beyond_memory(y.shape[0], n_channels, rows, n_lags - rows, n_refs, max_order)
         chosen_refs = list(range(n_channels)) if refs is None else list(refs)
         log(f"correlations: {n_lags} lags ({CORRELATION_ESTIMATOR} estimator), references {chosen_refs}")
         data, start, cols = correlations(y, n_lags, refs=refs, estimator=CORRELATION_ESTIMATOR), 0, None
@@ -395,7 +408,7 @@ def identify_record(
         cols = min(y.shape[0] - start - rows, 10 * rows)
         if cols < 1:
             raise ValueError(f"rows = {rows}: the decay after sample {start} is too short; reduce rows")
-        _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None)
+        _refuse_beyond_memory(y.shape[0], n_channels, rows, cols, None, max_order)
         chosen.update(decay_start_sample=int(start), decay_start_s=start * dt)
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,

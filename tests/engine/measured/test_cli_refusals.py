@@ -367,3 +367,22 @@ def test_no_mode_message_says_what_was_found_without_false_advice(capsys, noise,
     assert "stable" in line and "poles over 30 orders" in line
     assert "raise --max-order" not in line
     assert "Noise alone" in line or "noise alone" in line
+
+
+def test_a_model_order_beyond_memory_is_refused_before_the_work(monkeypatch):
+    """max_order 4000 on a 12,000 x 4 record: 2000 block rows, a Hankel
+    matrix of 0.5 GB, but the modal histories of 4,002,000 eigenvalues over
+    8004 columns (the MAMC's): 513 GB. It was killed by the system after
+    minutes, or numpy's bare 'Unable to allocate'; now refused at once,
+    naming the order."""
+    from modal.measured import _pipeline, memory_needed
+
+    assert memory_needed(12000, 4, 2000, 2001, 4, 4000)["poles"] == 16 * 2000 * 2001 * 8004
+    assert memory_needed(12000, 4, 60, 61, 4, 60)["poles"] == 16 * 30 * 31 * 244
+    assert "poles" not in memory_needed(12000, 4, 60, 61, 4)
+    monkeypatch.setattr(_pipeline, "available_memory", lambda: 16e9)
+    y = np.random.default_rng(0).standard_normal((12000, 4))
+    with pytest.raises(ValueError, match=r"would need about 513 GB of memory .*the modal histories of 4002000 "
+                                         r"eigenvalues \(orders 2 \.\.\. 4000\): 513 GB\), only 16 GB available: .*"
+                                         r"or a lower --max-order"):
+        modal.identify_record(y, 0.005, "ambient", max_order=4000)
