@@ -128,6 +128,38 @@ def _refuse_no_vibration(raw, detrended, labels) -> None:
         raise ValueError(f"{subject}: {why}" + ("" if everything else "; leave it out of the channels used (--channels)"))
 
 
+#: Channels of one quantity whose RMS levels differ by this factor or more draw a warning (:func:`level_warning`).
+LEVEL_RATIO = 100.0
+
+
+def level_warning(y, labels, quantities=None) -> str | None:
+    """A warning when channels measuring the same quantity differ in level
+    by :data:`LEVEL_RATIO` or more, else None: the correlations and their
+    decomposition weigh each channel by its level, so a channel recorded in
+    other units (mm/s² among m/s²: 1000-fold) outweighs the others, and modes
+    seen mainly in those are missed or biased (two modes 0.8 % apart on four
+    channels: all four found with one unit, one found with a channel 1000
+    times larger). ``y``: the record, detrended; ``quantities``: what each
+    channel measures (default: all the same)."""
+    rms = np.sqrt(np.mean(np.square(y), axis=0))
+    kinds = ["the same quantity"] * len(rms) if quantities is None else list(quantities)
+    worst = None
+    for kind in dict.fromkeys(kinds):
+        group = [c for c, q in enumerate(kinds) if q == kind]
+        high, low = max(group, key=lambda c: rms[c]), min(group, key=lambda c: rms[c])
+        ratio = rms[high] / rms[low] if rms[low] > 0 else np.inf
+        if ratio >= LEVEL_RATIO and (worst is None or ratio > worst[0]):
+            worst = (ratio, high, low, kind)
+    if worst is None:
+        return None
+    ratio, high, low, kind = worst
+    return (f"channels {labels[high]} (rms {rms[high]:.3g}) and {labels[low]} (rms {rms[low]:.3g}), both {kind}, "
+            f"differ {ratio:.0f}-fold in level: a channel in other units (mm/s² among m/s²)? The identification "
+            "weighs each channel by its level, so modes seen mainly in the weaker channels can be missed or biased: "
+            "give every channel in one unit (a sensor near a support is weak for a reason: leave it out with "
+            "--channels if its modes do not matter)")
+
+
 def available_memory() -> int:
     """Bytes of memory this process can still take: ``MemAvailable`` of
     ``/proc/meminfo`` (else the physical memory), and no more than what a
@@ -340,7 +372,9 @@ def identify_record(
         acc = despiked(raw, spikes)  # the straight line between each spike's neighbours (modal.despiked)
     y = detrend(acc)  # a copy of the record, the only one of its size
     _refuse_no_vibration(np.asarray(acc, dtype=float), y, labels)
-    for message in clipping_warnings(raw, 1 / dt, labels) + spike_warnings(raw, 1 / dt, labels, spikes=spikes):
+    levels = level_warning(y, labels, options.quantities)
+    for message in clipping_warnings(raw, 1 / dt, labels) + spike_warnings(raw, 1 / dt, labels, spikes=spikes) + (
+            [levels] if levels else []):
         warnings.warn(message, ModalWarning, stacklevel=2)
     y /= unit_scale(y)  # a power of two: exact, and the products below neither underflow nor overflow
     n_channels = y.shape[1]

@@ -230,3 +230,32 @@ def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
     shadow = bare.assign(flag=list(modes["flag"]) + [f"same shape as {first} Hz (MAC 1.000)"])
     witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=shadow), details["spectrum"])
     assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
+
+
+def test_channels_of_one_quantity_a_hundred_fold_apart_draw_a_warning():
+    """A channel in other units (x 1000) among channels of the same quantity
+    is named with the weakest; levels within 100-fold, or apart only across
+    quantities (a velocity beside accelerations), are not; a channel's level
+    is its RMS."""
+    from modal.measured._pipeline import LEVEL_RATIO, level_warning
+
+    rng = np.random.default_rng(5)
+    y = rng.standard_normal((4000, 4)) * [1.0, 2.0, 0.5, 1.5]
+    labels = ["a", "b", "c", "d"]
+    assert level_warning(y, labels) is None
+    scaled = y * [1.0, 1000.0, 1.0, 1.0]
+    message = level_warning(scaled, labels)
+    rms = np.sqrt(np.mean(scaled**2, axis=0))
+    assert message.startswith(f"channels b (rms {rms[1]:.3g}) and c (rms {rms[2]:.3g}), both the same quantity, "
+                              f"differ {rms[1] / rms[2]:.0f}-fold in level: a channel in other units")
+    assert level_warning(scaled, labels, ["acceleration", "velocity", "acceleration", "acceleration"]) is None
+    assert "both acceleration" in level_warning(scaled, labels, ["acceleration"] * 4)
+    square = np.resize([1.0, -1.0], 4000)[:, None] * [1.0, LEVEL_RATIO]  # rms exactly 1 and 100
+    assert "differ 100-fold" in level_warning(square, labels[:2])
+    assert level_warning(square * [1.0, 0.999], labels[:2]) is None
+    for quantities, expected in ((None, 1), (("acceleration", "velocity", "acceleration", "acceleration"), 0)):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            modal.identify_record(scaled, 0.01, "ambient", rows=20, max_order=4, fmax=20, quantities=quantities)
+        said = [str(w.message) for w in caught if "-fold in level" in str(w.message)]
+        assert len(said) == expected and all(m.startswith("channels 1 (rms") and " and 2 (rms" in m for m in said)
