@@ -13,7 +13,7 @@ import pandas as pd
 
 from .._checks import positive_float, unit_scale
 from ..identification import ModalWarning, Stabilisation, StabilityCriteria, stabilisation
-from ..records import clipping_warnings, despiked, spike_samples, spike_warnings
+from ..records import SPIKE_MAX_WIDTH, clipping_warnings, despiked, spike_samples, spike_warnings
 from ._options import IdentifyOptions, identify_options
 
 #: Without ``fmax`` and ``rows``, the block rows span this many periods of the
@@ -368,6 +368,10 @@ def identify_record(
         raise ValueError(f"channel_labels: {len(labels)} labels for {acc.shape[1]} channels used")
     raw = acc
     spikes = spike_samples(raw)
+    if excitation == "free_decay" and any(at.size for at in spikes):
+        # the impact: an accelerometer's direct response to a hammer's blow is one sharp sample, not a spike
+        impact = decay_start(detrend(raw))
+        spikes = [at[np.abs(at - impact) > SPIKE_MAX_WIDTH] for at in spikes]
     if any(at.size for at in spikes):
         acc = despiked(raw, spikes)  # the straight line between each spike's neighbours (modal.despiked)
     y = detrend(acc)  # a copy of the record, the only one of its size

@@ -259,3 +259,46 @@ def test_channels_of_one_quantity_a_hundred_fold_apart_draw_a_warning():
             modal.identify_record(scaled, 0.01, "ambient", rows=20, max_order=4, fmax=20, quantities=quantities)
         said = [str(w.message) for w in caught if "-fold in level" in str(w.message)]
         assert len(said) == expected and all(m.startswith("channels 1 (rms") and " and 2 (rms" in m for m in said)
+
+
+def _hammer_test(fs=200.0, seconds=20.0, impact=400):
+    """Accelerations of two unit masses (a chain of springs of 3 Hz,
+    stiffness-proportional damping: 1.854 and 4.854 Hz, 1.2 and 3.1 %) struck
+    at the second at sample ``impact`` (exact ZOH state space): the direct
+    response is one sharp sample; 0.5 % noise."""
+    import scipy.signal
+
+    k = np.array([[2.0, -1.0], [-1.0, 1.0]]) * (2 * np.pi * 3.0) ** 2
+    c = 0.002 * k
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-k, -c]])
+    system = scipy.signal.cont2discrete((a, np.array([[0.0], [0.0], [0.0], [1.0]]), np.hstack([-k, -c]),
+                                          np.array([[0.0], [1.0]])), 1 / fs)
+    force = np.zeros(int(seconds * fs))
+    force[impact] = fs
+    _, y, _ = scipy.signal.dlsim(system[:4] + (1 / fs,), force)
+    return y + 0.005 * np.abs(y).max(axis=0) * np.random.default_rng(1).standard_normal(y.shape), 1 / fs
+
+
+def test_a_hammer_blow_is_no_spike_in_a_free_decay():
+    """An accelerometer's direct response to an impact is one sharp sample:
+    the spike check flags it, so an ambient identification replaces it with a
+    warning; a free decay keeps it (it is where the decay starts) and warns of
+    nothing, and still finds both modes; a spike elsewhere is still replaced."""
+    y, dt = _hammer_test()
+    assert [at.tolist() for at in modal.spike_samples(y)] == [[], [400]]
+    expected = np.sort(np.sqrt(np.linalg.eigvalsh(np.array([[2.0, -1.0], [-1.0, 1.0]])))) * 3.0
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result, _ = modal.identify_record(y, dt, "free_decay", max_order=20, fmax=20)
+    assert [str(w.message) for w in caught if "spike" in str(w.message)] == []
+    np.testing.assert_allclose(np.sort(result.modes["freq_hz"])[:2], expected, rtol=2e-3)
+    glitch = y.copy()
+    glitch[3000, 0] += 50 * np.abs(y[:, 0]).max()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        modal.identify_record(glitch, dt, "free_decay", max_order=20, fmax=20)
+    assert sum("spike" in str(w.message) for w in caught) == 1
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        modal.identify_record(y, dt, "ambient", max_order=8, fmax=20, rows=40)
+    assert sum("spike" in str(w.message) for w in caught) == 1
