@@ -190,18 +190,19 @@ def _first_column(headers) -> tuple[str | None, float | None, str]:
     time named in ms, µs, min or h, as ``Time [ms]``, ``t_ms`` or a units row
     ``ms``, is scaled to seconds; None for a unit not known); and the header
     cell that said so."""
-    kind, scale, said = None, 1.0, ""
+    kind, scale, said, named_t = None, 1.0, "", False
     for row in headers:
         cell = unicodedata.normalize("NFKC", row[0] if row else "").strip().replace("\u03bc", "u")
         key = cell.lower()
         if key in SAMPLE_NAMES:
             kind, said = "samples", cell
             continue
-        if key.strip("[]() ") in TIME_UNITS:  # a units row: "ms", "[s]"
+        if (kind == "time" or named_t) and key.strip("[]() ") in TIME_UNITS:  # a units row below the name
             kind, scale, said = "time", TIME_UNITS[key.strip("[]() ")], cell
             continue
         match = _UNIT_IN_NAME.match(key)
         unit = match and (match["bracketed"] or match["suffix"] or "").strip()
+        named_t = named_t or key == "t"  # time only with a unit (here or in a units row): alone a channel's name
         if match and (match["name"].strip() in TIME_NAMES or match["name"].strip() == "t" and unit):
             kind, scale, said = "time", TIME_UNITS.get(unit) if unit else scale, cell
     return kind, scale, said

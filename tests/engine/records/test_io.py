@@ -358,3 +358,16 @@ def test_a_gap_in_the_time_column_is_located_and_a_named_time_column_is_never_da
     restart[40:] -= 0.1  # the clock set back: the step that departs most is negative
     with pytest.raises(ValueError, match=r"the step after t = 0.195 \(data row 40\) is -0.095 against a median of 0.005"):
         read_record(_timed(tmp_path, "restart.csv", "time,a,b,c\n", restart, acc))
+
+
+def test_a_first_channel_named_like_a_unit_is_data(tmp_path, acc):
+    """A unit in a units row counts for the time column only below a name
+    that says time: a first channel named ``H`` (horizontal) or ``S`` is
+    data, read with fs, and not a time in hours or seconds with a gap."""
+    data = np.column_stack([np.cos(np.arange(len(acc))), acc])
+    for header in ("H,a,b,c\n", "S,a,b,c\n", "h,a,b,c\nm/s2,m/s2,m/s2,m/s2\n", "x,a,b,c\nms,g,g,g\n"):
+        path = tmp_path / "channels.csv"
+        path.write_text(header + "".join(",".join(repr(float(v)) for v in row) + "\n" for row in data))
+        record = read_record(path, fs=200)
+        assert record.acc.shape == (len(acc), 4) and record.dt == DT, header
+        np.testing.assert_array_equal(record.acc, data)
