@@ -28,7 +28,7 @@ count when they lie below 0.8 times the Nyquist frequency.
 Run (one BLAS thread; the baseline from another checkout with
 ``PYTHONPATH=that/checkout``)::
 
-    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_selection.py [--records 12] [--out table.csv]
+    OMP_NUM_THREADS=1 .venv/bin/python benchmarks/bench_selection.py [--records 12] [--out table.csv] [--seed 1] [--gains]
 """
 
 from __future__ import annotations
@@ -112,7 +112,10 @@ def score(modes, f_true, z_true, nyquist):
     return row
 
 
-def run(records: int, seed: int = 0) -> pd.DataFrame:
+def run(records: int, seed: int = 0, gains: bool = False) -> pd.DataFrame:
+    """Identify and score ``records`` records of each kind and duration; with
+    ``gains``, each channel is multiplied by ``10^U(-3, 3)`` (channels in
+    other units), drawn from its own generator so the records are the same."""
     import warnings
 
     rows = []
@@ -124,6 +127,9 @@ def run(records: int, seed: int = 0) -> pd.DataFrame:
                 f_top = natural_hz(m, k, len(m) - 1)
                 fs = float(np.round(8 * f_top))
                 acc, f_true, z_true = simulate(m, c, k, sensors, 1 / fs, int(minutes * 60 * fs), rng, colour, noise)
+                if gains:
+                    draw = np.random.default_rng([99, seed, KINDS.index(kind), minutes, r])
+                    acc = acc * 10.0 ** draw.uniform(-3, 3, acc.shape[1])
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     try:
@@ -151,9 +157,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--records", type=int, default=12, help="records per kind and duration")
     parser.add_argument("--out", help="CSV of every record's counts")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the records (0: the documented ones)")
+    parser.add_argument("--gains", action="store_true", help="each channel times 10^U(-3, 3) (other units)")
     args = parser.parse_args()
     start = time.perf_counter()
-    table = run(args.records)
+    table = run(args.records, args.seed, args.gains)
     if args.out:
         table.to_csv(args.out, index=False)
     print(summary(table).to_markdown())

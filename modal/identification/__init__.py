@@ -15,11 +15,12 @@ from ._fdd import SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd, s
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
-from ._result import FLAGS, ModalResult, ModalWarning, normalise_shapes
+from ._result import FLAGS, ModalResult, ModalWarning, normalise_complex_shapes, normalise_shapes
 from ._stabilisation import QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes and shared_peaks are importable
+# QUANTITIES (what a channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes,
+# normalise_complex_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
 # campaign averages shapes by the identification's scaling; the witness of a record names modes on one
 # peak and leaves the selection's same-shape pairs alone); the names below are also re-exported by modal.

@@ -302,3 +302,44 @@ def test_a_hammer_blow_is_no_spike_in_a_free_decay():
         warnings.simplefilter("always")
         modal.identify_record(y, dt, "ambient", max_order=8, fmax=20, rows=40)
     assert sum("spike" in str(w.message) for w in caught) == 1
+
+
+def test_a_channel_in_other_units_is_scaled_up_and_its_shape_entries_back():
+    """A channel 1000 times weaker than its quantity's strongest (mm/s²
+    recorded as m/s²... the other way round) is multiplied by the power of
+    two bringing it to about a tenth of the strongest for the
+    identification, logged and in the settings; the shapes come back in the
+    record's units (that channel's entries 1000 times smaller than
+    unscaled), the frequencies as without the gain. Channels within
+    ten-fold, or apart only across quantities, are left alone."""
+    from modal.measured._pipeline import level_scales
+
+    acc, dt, f_exact = ambient_beam(duration_s=300.0)
+    gains = np.array([1.0, 1e-3, 1.0, 1.0, 1.0])
+    rms = np.sqrt(np.mean(acc**2, axis=0))
+    scales = level_scales(acc * gains)
+    expected = np.exp2(np.round(np.log2(0.1 * rms.max() / (rms[1] * 1e-3))))
+    np.testing.assert_array_equal(scales, [1.0, expected, 1.0, 1.0, 1.0])
+    np.testing.assert_array_equal(level_scales(acc * gains, ["acceleration", "velocity"] + ["acceleration"] * 3), 1.0)
+    np.testing.assert_array_equal(level_scales(acc * [1.0, 0.2, 1.0, 1.0, 1.0]), 1.0)  # within ten-fold of the strongest
+    runs = {}
+    for name, factor in (("same", np.ones(5)), ("gain", gains)):
+        log, details = [], {}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            runs[name] = modal.identify_record(acc * factor, dt, "ambient", fmax=float(f_exact[2] * 1.3), max_order=40,
+                                               log=log.append, details=details)[0], log, details["settings"]
+    (same, same_log, same_settings), (gain, gain_log, gain_settings) = runs["same"], runs["gain"]
+    assert "channel_scales" not in same_settings and not any("scaled up" in line for line in same_log)
+    assert gain_settings["channel_scales"] == {"1": expected}
+    assert [line for line in gain_log if "scaled up" in line] == [
+        f"scaled up for the identification (weaker than a tenth of the strongest of their quantity): channel 1 x {expected:g}"]
+    np.testing.assert_allclose(np.sort(gain.trusted_modes["freq_hz"]), np.sort(same.trusted_modes["freq_hz"]), rtol=2e-3)
+    np.testing.assert_allclose(np.sort(gain.trusted_modes["freq_hz"]), f_exact, rtol=5e-3)
+    for k in gain.trusted_modes.index:
+        j = int(np.argmin(np.abs(same.modes["freq_hz"].to_numpy() - gain.modes["freq_hz"].iloc[k])))
+        ratio_gain = gain.complex_shapes[1, k] / gain.complex_shapes[0, k]
+        ratio_same = same.complex_shapes[1, j] / same.complex_shapes[0, j]
+        np.testing.assert_allclose(abs(ratio_gain), 1e-3 * abs(ratio_same), rtol=0.05)
+        assert np.isclose(np.linalg.norm(gain.complex_shapes[:, k]), 1.0)
+        assert np.allclose(np.linalg.norm(gain.pole_shapes, axis=1), 1.0)
