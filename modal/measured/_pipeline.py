@@ -148,15 +148,21 @@ def level_scales(y, quantities=None) -> np.ndarray:
     ``10^U(-3, 3)`` 632 of 741 modes were found against 676 scaled (694
     without gains; records whose channels lie within ten-fold are
     unchanged)."""
-    rms = np.sqrt(np.mean(np.square(y), axis=0))
-    kinds = [None] * len(rms) if quantities is None else list(quantities)
+    rms, groups = _levels(y, quantities)
     scales = np.ones(len(rms))
-    for kind in dict.fromkeys(kinds):
-        group = np.array([c for c, q in enumerate(kinds) if q == kind])
+    for group in groups.values():
         floor = LEVEL_FLOOR * rms[group].max()
         weak = group[(rms[group] < floor) & (rms[group] > 0)]
         scales[weak] = np.exp2(np.round(np.log2(floor / rms[weak])))
     return scales
+
+
+def _levels(y, quantities) -> tuple[np.ndarray, dict]:
+    """Each channel's RMS, and the channels of each quantity (``"the same
+    quantity"`` for all when ``quantities`` is None), in order of first use."""
+    rms = np.sqrt(np.mean(np.square(y), axis=0))
+    kinds = ["the same quantity"] * len(rms) if quantities is None else list(quantities)
+    return rms, {kind: np.array([c for c, q in enumerate(kinds) if q == kind]) for kind in dict.fromkeys(kinds)}
 
 
 def _in_record_units(result: Stabilisation, scales) -> Stabilisation:
@@ -183,12 +189,10 @@ def level_warning(y, labels, quantities=None) -> str | None:
     (:func:`level_scales` narrows the gap for the identification). ``y``: the
     record, detrended; ``quantities``: what each channel measures (default:
     all the same)."""
-    rms = np.sqrt(np.mean(np.square(y), axis=0))
-    kinds = ["the same quantity"] * len(rms) if quantities is None else list(quantities)
+    rms, groups = _levels(y, quantities)
     worst = None
-    for kind in dict.fromkeys(kinds):
-        group = [c for c, q in enumerate(kinds) if q == kind]
-        high, low = max(group, key=lambda c: rms[c]), min(group, key=lambda c: rms[c])
+    for kind, group in groups.items():
+        high, low = group[np.argmax(rms[group])], group[np.argmin(rms[group])]
         ratio = rms[high] / rms[low] if rms[low] > 0 else np.inf
         if ratio >= LEVEL_RATIO and (worst is None or ratio > worst[0]):
             worst = (ratio, high, low, kind)
