@@ -232,6 +232,10 @@ class Stabilisation:
         stable = poles["stable_freq"].to_numpy()
         candidates = stable & poles["physical"].to_numpy()
         found = f"{len(poles)} poles over {n_orders} orders, {int(stable.sum())} stable in frequency"
+        if n_orders < 2:
+            return (f"{len(poles)} poles at one model order ({int(poles['order'].iloc[0])}): stability is judged "
+                    "between consecutive orders, so a mode needs poles at two or more: raise --max-order "
+                    "(max_order); a structure with n modes in the band needs orders well above 2 n")
         if not stable.any():
             return (f"{found}: no pole recurs from one order to the next (within {criteria.freq_rtol:.0%} in "
                     "frequency), as for a record of noise alone. What could help: check that the record holds the "

@@ -437,6 +437,12 @@ def identify_record(
     min_rows = max(60, math.ceil(2 * max_order / n_channels))
     if fmax is not None:
         factor = int(1 / (dt * 2.5 * fmax))
+        needed = 2 * (2 * (min_rows if rows is None else rows) + 1)  # twice the lags of the rows
+        if excitation == "ambient" and factor >= 2 and y.shape[0] // factor < needed:
+            raise ValueError(
+                f"fmax = {fmax:g} Hz decimates the {y.shape[0]}-sample record by {factor} to "
+                f"{y.shape[0] // factor} samples, fewer than the {needed} the identification needs: fmax must be "
+                f"at least {needed / (2.5 * y.shape[0] * dt):.3g} Hz for this record (or give a longer record)")
         if factor >= 2:
             log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
             y, dt = decimate(y, dt, factor)

@@ -2,6 +2,7 @@
 (preprocessing, NExT correlations or the free decay, the diagram), on the
 ambient beam, a closed-form free decay and the Palisaden record."""
 
+import re
 import warnings
 
 import numpy as np
@@ -155,6 +156,13 @@ def test_identify_record_refusals_name_the_argument():
             modal.identify_record(acc, **({"dt": 0.01, "excitation": "ambient", "rows": 20} | kwargs))
     (result, dt), _ = _run(modal.identify_record, acc, 0.01, "ambient", max_order=2, rows=20, fmax=49.9)
     assert dt == 0.01 and set(result.poles["order"]) <= {2}
+    assert re.match(r"\d+ poles at one model order \(2\): stability is judged between consecutive orders, .*raise "
+                    r"--max-order", result.no_mode_reason())
+    # an fmax that decimates the record below what the lags need: the lowest fmax the record allows is named
+    with pytest.raises(ValueError, match=r"^fmax = 0.5 Hz decimates the 1000-sample record by 80 to 12 samples, fewer "
+                                         r"than the 242 the identification needs: fmax must be at least 9.68 Hz"):
+        modal.identify_record(acc, 0.01, "ambient", fmax=0.5)
+    _run(modal.identify_record, acc, 0.01, "ambient", fmax=9.7, max_order=4)  # 250 samples: enough
     # channels first (the reader's layout check, also in the API), and fs given twice, unalike
     with pytest.raises(ValueError, match=r"^acc of shape \(2, 1000\) reads as 2 samples of 1000 channels; .*acc\.T"):
         modal.identify_record(acc.T, 0.01, "ambient")
