@@ -160,7 +160,7 @@ def level_scales(y, quantities=None) -> np.ndarray:
 def _levels(y, quantities) -> tuple[np.ndarray, dict]:
     """Each channel's RMS, and the channels of each quantity (``"the same
     quantity"`` for all when ``quantities`` is None), in order of first use."""
-    rms = np.sqrt(np.mean(np.square(y), axis=0))
+    rms = np.sqrt(np.einsum("tc,tc->c", y, y) / len(y))
     kinds = ["the same quantity"] * len(rms) if quantities is None else list(quantities)
     return rms, {kind: np.array([c for c, q in enumerate(kinds) if q == kind]) for kind in dict.fromkeys(kinds)}
 
