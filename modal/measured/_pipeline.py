@@ -57,6 +57,14 @@ SEGMENT_LAGS = 6
 CORRELATION_ESTIMATOR = "unbiased"
 
 
+#: The lowest spectral peak lies above this many Welch bins: the Hann window's main lobe around 0 Hz (two
+#: bins), where drift and trends lie, and one more. Five (before 2026-11-29) put the floor at 40-80 periods
+#: per record (segments of an eighth of it, rounded down to a power of two): the 0.45 Hz fundamental pair of
+#: a 2-minute record at 50 Hz (bins of 0.098 Hz) was passed over, the block rows spanned the 1.4 Hz mode's
+#: period and the pair was found in 4 of 12 records (exploratory run); with three, in 12 and 11 of 12.
+LOWEST_PEAK_BINS = 3
+
+
 def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
     """The lowest prominent peak of a record's spectrum (Hz), or None.
 
@@ -64,8 +72,9 @@ def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
     power of two up to an eighth of the record), each channel normalised
     to its maximum, averaged over channels, in dB; the lowest peak
     (scipy.signal.find_peaks) at least ``prominence_db`` above its
-    surroundings, above five frequency bins and ten periods per record (the
-    record cannot resolve lower: drift and trends lie there).
+    surroundings, above :data:`LOWEST_PEAK_BINS` frequency bins and ten
+    periods per record (the record cannot resolve lower: drift and trends
+    lie there).
     """
     from scipy.signal import find_peaks, welch
 
@@ -79,7 +88,7 @@ def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
         level = level + power / (power.max() if power.max() > 0 else 1) / y.shape[1]
     db = 10 * np.log10(level + 1e-300)
     peaks, _ = find_peaks(db, prominence=prominence_db)
-    floor = max(5 * freqs[1], 10 / (n * dt))
+    floor = max(LOWEST_PEAK_BINS * freqs[1], 10 / (n * dt))
     peaks = peaks[freqs[peaks] > floor]
     return float(freqs[peaks[0]]) if len(peaks) else None
 

@@ -54,9 +54,9 @@ def test_lowest_peak_in_a_spectrum_with_empty_bins(monkeypatch):
     assert _pipeline.lowest_peak_hz(np.zeros((100000, 1)), 0.01) == 3.0
 
 
-@pytest.mark.parametrize("k, expected", [(5, None), (6, 0.75), (7, 0.875)])
-def test_lowest_peak_lies_above_five_bins(monkeypatch, k, expected):
-    """A peak counts only strictly above five frequency bins (here the
+@pytest.mark.parametrize("k, expected", [(3, None), (4, 0.5), (5, 0.625)])
+def test_lowest_peak_lies_above_three_bins(monkeypatch, k, expected):
+    """A peak counts only strictly above three frequency bins (here the
     record's ten periods lie lower)."""
     fake_welch(monkeypatch, [bumps(200, {k: 100.0})], df=0.125)
     assert _pipeline.lowest_peak_hz(np.zeros((100000, 1)), 0.01) == expected
@@ -64,7 +64,7 @@ def test_lowest_peak_lies_above_five_bins(monkeypatch, k, expected):
 
 def test_lowest_peak_lies_above_ten_periods_per_record(monkeypatch):
     """64 samples at 100 Hz: a peak must lie above 10 / 0.64 s = 15.6 Hz
-    (here five bins are lower): of peaks at 10 and 16 Hz, 16 Hz."""
+    (here three bins are lower): of peaks at 10 and 16 Hz, 16 Hz."""
     fake_welch(monkeypatch, [bumps(100, {20: 100.0, 32: 100.0})], df=0.5)
     assert _pipeline.lowest_peak_hz(np.zeros((64, 1)), 0.01) == 16.0
 
