@@ -9,6 +9,7 @@ its spectral witness, frequency domain decomposition (:func:`fdd`).
 """
 
 from ._cera import cera
+from ._envelope import ENVELOPE_COLUMNS, envelope_variation, steady
 from ._era import era
 from ._era_kernels import decompose
 from ._fdd import SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd, shared_peaks, spectral_support
@@ -19,7 +20,8 @@ from ._result import FLAGS, ModalResult, ModalWarning, normalise_complex_shapes,
 from ._stabilisation import QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# QUANTITIES (what a channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes,
+# ENVELOPE_COLUMNS, envelope_variation and steady (harmonics told by their steady amplitude), QUANTITIES (what a
+# channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes,
 # normalise_complex_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
 # campaign averages shapes by the identification's scaling; the witness of a record names modes on one

@@ -349,7 +349,10 @@ def identify_record(
     (:func:`modal.spectral_support`): ``modes`` gains the columns
     ``sv_peak_hz``, ``sv_number``, ``sv_mac`` and ``spectral_support``, and a
     mode without a peak near it has ``no spectral peak`` among its ``flag``
-    reasons (where the selection writes a ``flag`` column).
+    reasons (where the selection writes a ``flag`` column). Of an ambient
+    record, each mode's amplitude steadiness (:func:`with_harmonic_check`):
+    ``envelope_cv`` and ``envelope_values``, and ``harmonic (envelope CV
+    0.06)`` among the reasons of a mode whose amplitude stays steady.
 
     Refused with ``ValueError`` before the work: options the record cannot
     take (:meth:`IdentifyOptions.record_problems`: fmax above its Nyquist
@@ -524,11 +527,16 @@ def identify_record(
     log(f"spectral witness: singular values of the spectral density matrix (Welch, {spectrum.nperseg}-sample "
         f"segments, {spectrum.df:.3g} Hz resolution)")
     result = with_spectral_witness(result, spectrum, quantities=options.quantities)
+    if excitation == "ambient":  # a decay's amplitude decays, a harmonic's and a random mode's do not
+        result = with_harmonic_check(result, y, dt)
     if np.any(scales != 1):
         result = _in_record_units(result, scales)
     unsupported = result.modes.loc[~result.modes["spectral_support"].astype(bool), "freq_hz"]
     if len(unsupported):
         log("no singular-value peak near " + ", ".join(f"{f:.4g}" for f in unsupported) + " Hz")
+    harmonics = result.modes.loc[result.modes["flag"].fillna("").str.contains(HARMONIC), "freq_hz"]
+    if len(harmonics):
+        log("steady amplitude (a harmonic, not a mode) at " + ", ".join(f"{f:.4g}" for f in harmonics) + " Hz")
     if details is not None:
         chosen.update(fs_identified_hz=1 / dt, channels=list(labels), n_samples=int(y.shape[0]), rows=int(rows),
                       cols=int(cols) if cols is not None else int(data.shape[-2] - rows),
@@ -540,6 +548,35 @@ def identify_record(
 
 #: The reason a mode without a singular-value peak near it carries in ``flag``.
 NO_SPECTRAL_PEAK = "no spectral peak"
+#: The reason a mode of steady amplitude carries in ``flag`` (with its envelope's variation).
+HARMONIC = "harmonic"
+
+
+def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:
+    """``result`` with each mode's amplitude steadiness in ``modes``
+    (:func:`modal.identification.envelope_variation` of the ambient record
+    ``y`` as identified, on the modes' real shapes: ``envelope_cv``,
+    ``envelope_values``; any already there replaced) and, where ``modes``
+    has a ``flag`` column, ``harmonic (envelope CV 0.06)`` added to the
+    reasons of a mode whose amplitude stays steady
+    (:func:`modal.identification.steady`): a sinusoidal force or a
+    machine's rotation, not a mode of the structure."""
+    import dataclasses
+
+    from ..identification import envelope_variation, steady
+
+    modes = result.modes
+    variation = envelope_variation(y, dt, modes["freq_hz"].to_numpy(dtype=float),
+                                   modes["damping"].to_numpy(dtype=float), result.shapes)
+    modes = pd.concat([modes.drop(columns=variation.columns, errors="ignore"), variation.set_axis(modes.index)],
+                      axis=1)
+    if "flag" in modes:
+        harmonic = steady(variation)
+        modes["flag"] = pd.Series(["; ".join(filter(None, [f, f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""]))
+                                   for f, h, cv in zip(modes["flag"].fillna("").astype(str), harmonic,
+                                                       variation["envelope_cv"])],
+                                  index=modes.index, dtype=modes["flag"].dtype)
+    return dataclasses.replace(result, modes=modes)
 
 
 def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> Stabilisation:

@@ -33,7 +33,7 @@ MODE_HEADINGS = {
     "damping_std": "std (%)", "n_poles": "poles", "mpc": "MPC", "mpd": "MPD (°)", "close": "close",
     "close_mac": "MAC nearest", "sv_peak_hz": "SV peak (Hz)", "sv_number": "SV", "sv_mac": "SV MAC",
     "spectral_support": "spectral peak", "efdd_freq_hz": "EFDD (Hz)", "efdd_damping": "EFDD damping (%)",
-    "second_freq_hz": "2nd estimate (Hz)", "flag": "flag",
+    "second_freq_hz": "2nd estimate (Hz)", "envelope_cv": "envelope CV", "flag": "flag",
 }
 #: ... of a roving test's merged modes.
 MERGED_HEADINGS = {
