@@ -3,35 +3,142 @@
 Snakemake locks its working directory (``.snakemake/locks``) while it runs
 and removes the locks when it ends, unless it is killed (SIGKILL, a power
 cut). A later run is then refused ("Directory cannot be locked") until
-someone runs ``--unlock``. A lock is stale when no live process works in the
-directory whose command line names Snakemake (the scheduler, or a job it
-started: a job's script lives under ``.snakemake/scripts``); removing stale
-locks is what ``snakemake --unlock`` does. Linux only (``/proc``).
+someone runs ``--unlock``. A lock is stale when no Snakemake run is alive
+in the directory: no live process working there is Snakemake itself (its
+command is ``snakemake ...``, ``python -m snakemake ...`` or ``python
+.../snakemake ...``) or a job it started (``python`` running a script of
+``.snakemake/scripts``). A command that merely names Snakemake (``tail -f
+.snakemake/log/...``, an editor) is no run. Removing stale locks is what
+``snakemake --unlock`` does. Linux only (``/proc``).
+
+:func:`hold_folder` takes the lock of one run of ``modal campaign`` on its
+output folder (``flock`` on the folder itself, released by the kernel when
+the process ends however it ends), and :func:`descendants` finds the
+processes a run started, to stop them with it.
 """
 
 from __future__ import annotations
 
+import fcntl
 import os
 from pathlib import Path
 
 
+def _argv(pid) -> list[str]:
+    raw = Path(f"/proc/{pid}/cmdline").read_bytes()
+    return [a.decode(errors="replace") for a in raw.split(b"\0")[:-1]] if raw else []
+
+
+def is_snakemake_run(argv, cwd, root) -> bool:
+    """Whether a process with command ``argv`` working in ``cwd`` is a
+    Snakemake run in ``root`` (both resolved): Snakemake itself working there,
+    or a job it started there (a Python script of ``root/.snakemake/scripts``)."""
+    if not argv or Path(cwd) != Path(root):
+        return False
+    names = [os.path.basename(a) for a in argv[:2]]
+    if names[0] == "snakemake" or argv[1:3] == ["-m", "snakemake"] or names[1:] == ["snakemake"]:
+        return True
+    return len(argv) > 1 and (Path(cwd) / argv[1]).parent == Path(root) / ".snakemake" / "scripts"
+
+
 def live_snakemake_processes(root, exclude=()) -> dict[int, str]:
-    """``{pid: command line}`` of live processes whose working directory is
-    ``root`` and whose command line mentions snakemake."""
+    """``{pid: command line}`` of the live processes that are a Snakemake run
+    in ``root`` (:func:`is_snakemake_run`)."""
     root = Path(root).resolve()
     found = {}
     for entry in Path("/proc").iterdir():
         if not entry.name.isdigit() or int(entry.name) in exclude:
             continue
         try:
-            cmdline = (entry / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace").strip()
+            argv = _argv(entry.name)
             cwd = Path(os.readlink(entry / "cwd")).resolve()
             state = next((line for line in (entry / "status").read_text().splitlines()
                           if line.startswith("State:")), "")
         except (OSError, ValueError):
             continue  # gone, or not ours to inspect
-        if cwd == root and "snakemake" in cmdline.lower() and "zombie" not in state:
-            found[int(entry.name)] = cmdline
+        if is_snakemake_run(argv, cwd, root) and "zombie" not in state:
+            found[int(entry.name)] = " ".join(argv)
+    return found
+
+
+class FolderBusy(OSError):
+    """Another process holds the folder (:func:`hold_folder`): ``holders``,
+    ``{pid: command line}``, names it (empty when it cannot be seen)."""
+
+    def __init__(self, folder, holders: dict[int, str]):
+        super().__init__(f"{folder} is held by another run")
+        self.holders = holders
+
+
+def hold_folder(folder) -> int:
+    """An exclusive lock on ``folder`` (an existing directory) for as long as
+    the returned file descriptor is open (close it to release; the kernel
+    releases it when the process ends, also on ``kill -9``). Not inherited by
+    child processes.
+
+    Raises
+    ------
+    FolderBusy
+        Another open descriptor holds it: a run in that folder; its
+        ``holders`` are the processes named by ``/proc/locks``, or if that
+        process is gone, the Snakemake run it left in the folder.
+    """
+    fd = os.open(folder, os.O_RDONLY | getattr(os, "O_DIRECTORY", 0))
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        st = os.fstat(fd)
+        os.close(fd)
+        holders = {}
+        for pid in lock_holders(st.st_dev, st.st_ino):
+            try:
+                holders[pid] = " ".join(_argv(pid))
+            except OSError:
+                pass  # ended: the lock lives on in a process it left (a Snakemake run)
+        raise FolderBusy(folder, holders or live_snakemake_processes(folder, exclude={os.getpid()})) from None
+    except BaseException:
+        os.close(fd)
+        raise
+    return fd
+
+
+def lock_holders(device: int, inode: int) -> list[int]:
+    """The processes ``/proc/locks`` names as holding a lock on the file
+    (``device``, ``inode``); none without ``/proc``."""
+    wanted = f"{os.major(device):02x}:{os.minor(device):02x}:{inode}"
+    try:
+        lines = Path("/proc/locks").read_text().splitlines()
+    except OSError:
+        return []
+    pids = []
+    for line in lines:
+        fields = line.split()
+        if "->" not in fields and len(fields) >= 6 and fields[5] == wanted and fields[4].isdigit():
+            pids.append(int(fields[4]))
+    return pids
+
+
+def descendants(pid: int) -> list[int]:
+    """The live processes started by ``pid``, its children's children and so
+    on (parents before children); none without ``/proc``."""
+    parents = {}
+    try:
+        entries = [e for e in os.listdir("/proc") if e.isdigit()]
+    except OSError:
+        return []
+    for entry in entries:
+        try:
+            stat = Path(f"/proc/{entry}/stat").read_text()
+        except OSError:
+            continue
+        fields = stat[stat.rindex(")") + 2:].split()  # after the command's name, which may hold anything
+        if fields[0] != "Z":
+            parents.setdefault(int(fields[1]), []).append(int(entry))
+    found, todo = [], [pid]
+    while todo:
+        children = parents.get(todo.pop(0), [])
+        found += children
+        todo += children
     return found
 
 

@@ -63,6 +63,7 @@ The mode table printed gives damping as a ratio to critical (a fraction, not
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
 import time
 import warnings
@@ -189,8 +190,10 @@ def parser() -> argparse.ArgumentParser:
         description="Identify every record of a campaign (a YAML file naming the records and the options of "
                     "modal identify), track the modes over time and write a report; a Snakemake workflow that "
                     "resumes after an interruption and, with --profile, runs on a cluster.",
-        epilog="Exit codes: 0 done, 2 bad options or campaign file, 7 the workflow stopped (its log says why; "
-               "run again to resume).",
+        epilog="Exit codes: 0 done, 2 bad options or campaign file (also: another run is active in --out), "
+               "7 the workflow stopped (its log says why; run again to resume), 128+N stopped by signal N "
+               "(130 SIGINT, 143 SIGTERM, 129 SIGHUP: the workflow and its jobs are stopped with it; run again "
+               "to resume).",
     )
     run.add_argument("campaign", type=Path, help="the campaign's YAML file (docs: Monitoring campaigns)")
     run.add_argument("--out", type=Path, required=True, help="output folder (kept between runs: a rerun resumes)")
@@ -418,6 +421,10 @@ def campaign(args) -> int:
               file=sys.stderr)
         return EXIT_BAD_OPTIONS
     except WorkflowStopped as exc:
+        if exc.signum is not None:  # SIGINT, SIGTERM, SIGHUP: Snakemake and its jobs were stopped with it
+            print(f"modal campaign: interrupted ({signal.Signals(exc.signum).name}); the workflow stopped; its log "
+                  f"is in {exc.log}; run the same command again to resume", file=sys.stderr)
+            return 128 + exc.signum
         print(f"modal campaign: the workflow stopped (exit {exc.returncode}); its log is in {exc.log}; "
               "run the same command again to resume", file=sys.stderr)
         return EXIT_WORKFLOW
@@ -430,13 +437,13 @@ def main(argv=None) -> int:
     try:
         return campaign(args) if args.command == "campaign" else identify(args)
     except KeyboardInterrupt:
-        print("modal identify: interrupted", file=sys.stderr)
+        print(f"modal {args.command}: interrupted", file=sys.stderr)
         return 130
     except MemoryError as exc:  # reading a record whose header promises more than the memory holds, ...
         print(f"modal {args.command}: not enough memory{': ' + str(exc) if str(exc) else ''}", file=sys.stderr)
         return EXIT_CANNOT_IDENTIFY
     except Exception as exc:  # the contract: a one-line message, never a traceback
-        print(f"modal identify: internal error, please report: {type(exc).__name__}: {exc}", file=sys.stderr)
+        print(f"modal {args.command}: internal error, please report: {type(exc).__name__}: {exc}", file=sys.stderr)
         return EXIT_INTERNAL
 
 

@@ -4,10 +4,12 @@ run left behind, or stop with a clear message when a run is really active.
 Snakemake locks its working directory (``.snakemake/locks``) while it runs
 and removes the locks when it ends, unless it is killed (SIGKILL, a power
 cut). A later run is then refused ("Directory cannot be locked") until
-someone runs ``--unlock``. Here a lock is stale when no live process works
-in this directory whose command line names Snakemake (the scheduler or a
-job it started: a job's script lives under ``.snakemake/scripts``); stale
-locks are removed, which is what ``snakemake --unlock`` does. Incomplete
+someone runs ``--unlock``. Here a lock is stale when no Snakemake run is
+alive in this directory: no live process working here is Snakemake itself
+(``snakemake ...``, ``python -m snakemake ...``) or a job it started (a
+script of ``.snakemake/scripts``); a command that merely names Snakemake
+(``tail -f .snakemake/log/...``) is no run (``modal._locks``). Stale locks
+are removed, which is what ``snakemake --unlock`` does. Incomplete
 outputs are then rerun by ``--rerun-incomplete`` (regenerate.sh passes it).
 
 Exit status: 0 (no lock, or stale locks cleared), 3 (a run is active).

@@ -11,12 +11,16 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import os
+import signal
 import subprocess
 import sys
+import threading
+import time
 from collections.abc import Callable
 from pathlib import Path
 
-from .._locks import clear_stale_locks
+from .._locks import FolderBusy, clear_stale_locks, descendants, hold_folder
 from ._config import campaign_inputs, read_campaign
 
 #: The workflow :func:`run` (and ``modal campaign``) runs.
@@ -65,10 +69,109 @@ class WorkflowStopped(RuntimeError):
     each job's under ``out/logs``. Running again resumes: finished jobs are
     kept."""
 
+    #: The signal (SIGINT, SIGTERM, SIGHUP) that stopped it, if one did (:class:`WorkflowInterrupted`).
+    signum: int | None = None
+
     def __init__(self, returncode: int, log: Path):
         super().__init__(f"the workflow stopped (exit {returncode}); its log is in {log}; run again to resume")
         self.returncode = returncode
         self.log = log
+
+
+class WorkflowInterrupted(WorkflowStopped):
+    """The campaign's workflow was stopped by signal ``signum`` (SIGINT,
+    SIGTERM or SIGHUP) sent to the calling process: Snakemake and its jobs
+    were stopped as Ctrl-C stops them. Running again resumes."""
+
+    def __init__(self, signum: int, returncode: int, log: Path):
+        super().__init__(returncode, log)
+        self.signum = signum
+        self.args = (f"interrupted by {signal.Signals(signum).name}: the workflow stopped; its log is in {log}; "
+                     "run again to resume",)
+
+
+#: The signals that stop a campaign's workflow (and its jobs) as Ctrl-C does.
+STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
+#: Seconds a SIGINT is left to stop Snakemake and its jobs by itself (it may
+#: have reached them too) before it is passed on to them.
+SIGINT_GRACE = 3.0
+
+
+def _in_terminal_foreground() -> bool:
+    """Whether this process's group is the foreground of its terminal: then
+    a Ctrl-C there reached Snakemake and its jobs (this group) directly."""
+    try:
+        fd = os.open("/dev/tty", os.O_RDONLY | os.O_NOCTTY)
+    except OSError:
+        return False  # no terminal
+    try:
+        return os.tcgetpgrp(fd) == os.getpgrp()
+    except OSError:
+        return False
+    finally:
+        os.close(fd)
+
+
+def _run_snakemake(call) -> tuple[int, int | None]:
+    """Run Snakemake's command line ``call``; returns its exit status and the
+    stop signal this process received meanwhile, if any.
+
+    A signal of :data:`STOP_SIGNALS` sent to this process stops the workflow
+    as Ctrl-C does: Snakemake and every process it started get SIGINT (each
+    once per signal received, also a job started after it), so the jobs end
+    at once and Snakemake removes its locks; this process waits for them. A
+    SIGINT may have reached them already (Ctrl-C in a terminal signals the
+    whole foreground group): it is passed on only if they still run
+    :data:`SIGINT_GRACE` seconds later, and not at all when this process is
+    in the terminal's foreground (a second one is). Snakemake and its jobs
+    ignore SIGHUP: a closing terminal's hangup stops them through this
+    process as the other signals do, not by killing Snakemake mid-run.
+    Handled only in the main thread (Python's rule); in another thread the
+    signals keep their handlers."""
+    received = []
+
+    def keep(signum, frame):
+        received.append(signum)
+
+    previous = {}
+    main_thread = threading.current_thread() is threading.main_thread()
+    if main_thread:
+        previous = {signum: signal.signal(signum, keep) for signum in STOP_SIGNALS}
+        signal.signal(signal.SIGHUP, signal.SIG_IGN)  # inherited by Snakemake (an ignored signal stays ignored)
+    try:
+        try:
+            proc = subprocess.Popen(call)
+        finally:
+            if main_thread:
+                signal.signal(signal.SIGHUP, keep)
+        signalled, passed_on, pass_on_at = set(), 0, None
+        while True:
+            try:
+                return proc.wait(timeout=0.2 if not received else 0.05), (received[0] if received else None)
+            except subprocess.TimeoutExpired:
+                pass
+            if not received:
+                continue
+            if pass_on_at is None:  # the first signal: when to pass it on
+                seen_already = received[0] == signal.SIGINT
+                pass_on_at = time.monotonic() + (SIGINT_GRACE if seen_already else 0.0)
+                if seen_already and _in_terminal_foreground():
+                    pass_on_at = float("inf")
+            due = len(received) - (time.monotonic() < pass_on_at)  # signals to pass on by now
+            if due > passed_on:  # one more round: every process gets SIGINT once more
+                signalled, passed_on = set(), due
+            elif not passed_on:
+                continue
+            for pid in [proc.pid, *descendants(proc.pid)]:
+                if pid not in signalled:
+                    signalled.add(pid)
+                    try:
+                        os.kill(pid, signal.SIGINT)
+                    except ProcessLookupError:
+                        pass  # ended meanwhile
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
 
 
 def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, command: str | None = None,
@@ -117,7 +220,8 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     ValueError
         The campaign file is refused (the message names the key and the
         fix), ``cores`` is not a positive integer, ``profile`` is neither a
-        folder nor a shipped profile's name, or another run is active in ``out`` (its process named);
+        folder nor a shipped profile's name, or another run is active in ``out`` (its process named:
+        a run holds ``out`` from before it reads the campaign until it ends);
         :class:`modal.measured.OutputError` (a ``ValueError``) when ``out``
         is not a folder, cannot be created, or is, holds or lies inside one
         of the campaign's inputs (the campaign file, the index, the
@@ -127,53 +231,86 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     WorkflowStopped
         The workflow stopped: a job failed (a record that cannot be read or
         identified is not a failure: ``failed.csv`` lists it), or it was
-        interrupted.
+        interrupted: :class:`WorkflowInterrupted` when this process received
+        SIGINT, SIGTERM or SIGHUP (in the main thread), which stop Snakemake
+        and its jobs as Ctrl-C does.
     """
     from ..measured import OutputError, check_output
 
     log = log or (lambda message: None)
     if isinstance(cores, bool) or not isinstance(cores, int) or cores < 1:
         raise ValueError(f"cores: {cores!r} is not a positive integer")
-    config, index = read_campaign(campaign)
-    if importlib.util.find_spec("snakemake") is None:
-        raise ImportError("snakemake is not installed")
-    profile = None if profile is None else profile_folder(profile)
     out = Path(out)
-    # not an input, not holding or inside one (the rule modal identify follows), and a folder (or where one
-    # can be made) on a writable file system
-    check_output(out, inputs=campaign_inputs(campaign, config, index))
+    # One run per folder, held from before the campaign is read (a second run is refused at once; a folder
+    # still to be created is held as soon as it is) to the end of the run
+    held = _hold(out, unless_unreadable=True) if out.is_dir() else None
     try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise OutputError(f"out: cannot create {out}: {exc.strerror or exc}") from None
-    cleared, live = clear_stale_locks(out)
-    if live:
-        listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(live.items()))
-        raise ValueError(f"out: a campaign run is active in {out} ({listed}): wait for it or stop it, then run "
-                         "again to resume")
-    if cleared:
-        log(f"cleared {cleared} stale lock(s) of an interrupted run in {out}; resuming")
-    if command is None:
-        command = f"modal.campaign.run({str(campaign)!r}, {str(out)!r})"
-    # The workflow's config as a file (JSON, which YAML reads): Snakemake parses
-    # --config values itself, and a path such as "run #1/a: b" does not survive it.
-    settings = out / ".modal" / "config.json"
-    settings.parent.mkdir(exist_ok=True)
-    settings.write_text(json.dumps({"campaign": str(Path(campaign).resolve()), "command": command}))
-    call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(out),
-            "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--configfile", str(settings.resolve())]
-    if profile is not None:
-        call += ["--profile", str(profile)]
-    if dry_run:
-        call += ["--dry-run", "--quiet", "rules"]
-    log(f"{len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to {config['chunk']}")
-    report = out / "report.html"
-    before = report.stat().st_mtime_ns if report.exists() else None
-    done = subprocess.run(call)
-    if done.returncode:
-        raise WorkflowStopped(done.returncode, out / ".snakemake" / "log")
+        config, index = read_campaign(campaign)
+        if importlib.util.find_spec("snakemake") is None:
+            raise ImportError("snakemake is not installed")
+        profile = None if profile is None else profile_folder(profile)
+        # not an input, not holding or inside one (the rule modal identify follows), and a folder (or where one
+        # can be made) on a writable file system
+        check_output(out, inputs=campaign_inputs(campaign, config, index))
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"out: cannot create {out}: {exc.strerror or exc}") from None
+        if held is None:
+            held = _hold(out)
+        cleared, live = clear_stale_locks(out)
+        if live:
+            listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(live.items()))
+            raise ValueError(f"out: a campaign run is active in {out} ({listed}): wait for it or stop it, then "
+                             "run again to resume")
+        if cleared:
+            log(f"cleared {cleared} stale lock(s) of an interrupted run in {out}; resuming")
+        if command is None:
+            command = f"modal.campaign.run({str(campaign)!r}, {str(out)!r})"
+        # The workflow's config as a file (JSON, which YAML reads): Snakemake parses
+        # --config values itself, and a path such as "run #1/a: b" does not survive it.
+        settings = out / ".modal" / "config.json"
+        settings.parent.mkdir(exist_ok=True)
+        settings.write_text(json.dumps({"campaign": str(Path(campaign).resolve()), "command": command}))
+        call = [sys.executable, "-m", "snakemake", "--snakefile", str(SNAKEFILE), "--directory", str(out),
+                "--cores", str(cores), "--rerun-incomplete", "--keep-going", "--configfile",
+                str(settings.resolve())]
+        if profile is not None:
+            call += ["--profile", str(profile)]
+        if dry_run:
+            call += ["--dry-run", "--quiet", "rules"]
+        log(f"{len(index)} records in {-(-len(index) // config['chunk'])} chunks of up to {config['chunk']}")
+        report = out / "report.html"
+        before = report.stat().st_mtime_ns if report.exists() else None
+        returncode, signum = _run_snakemake(call)
+    finally:
+        if held is not None:
+            os.close(held)
+    if signum is not None:
+        raise WorkflowInterrupted(signum, returncode, out / ".snakemake" / "log")
+    if returncode:
+        raise WorkflowStopped(returncode, out / ".snakemake" / "log")
     if not dry_run and before is not None and report.stat().st_mtime_ns == before:
         log(f"nothing to do: {out / 'tracked.csv'} and {report} were up to date")
     elif not dry_run:
         log(f"wrote {out / 'tracked.csv'} and {report}")
     return out
+
+
+def _hold(out: Path, unless_unreadable: bool = False) -> int | None:
+    """:func:`modal._locks.hold_folder` of ``out``, or the ValueError naming
+    the run that holds it. ``unless_unreadable``: None for a folder that
+    cannot be opened (left to :func:`modal.measured.check_output` to name);
+    else the OutputError."""
+    from ..measured import OutputError
+
+    try:
+        return hold_folder(out)
+    except FolderBusy as busy:
+        listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(busy.holders.items())) or "pid unknown"
+        raise ValueError(f"out: a campaign run is active in {out} ({listed}): wait for it or stop it "
+                         "(kill <pid>), then run again to resume") from None
+    except OSError as exc:
+        if unless_unreadable:
+            return None
+        raise OutputError(f"out: cannot open {out}: {exc.strerror or exc}") from None

@@ -140,7 +140,10 @@ def test_a_live_run_in_the_folder_is_refused_with_its_pid(tmp_path):
     out = tmp_path / "out"
     (out / ".snakemake" / "locks").mkdir(parents=True)
     (out / ".snakemake" / "locks" / "0.input.lock").write_text("")
-    other = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", "snakemake"], cwd=out)
+    fake = tmp_path / "snakemake"  # a Snakemake left running there by a caller killed alone
+    fake.write_text(f"#!{sys.executable}\nimport time\ntime.sleep(60)\n")
+    fake.chmod(0o755)
+    other = subprocess.Popen([str(fake), "--directory", str(out)], cwd=out)
     try:
         with pytest.raises(ValueError, match=f"a campaign run is active in .* \\(pid {other.pid}: "):
             modal.campaign.run(folder / "campaign.yaml", out)

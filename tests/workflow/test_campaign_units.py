@@ -750,15 +750,24 @@ def sleeper(cwd, *words):
     return subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", *words], cwd=cwd)
 
 
+def fake_snakemake(folder, cwd, *args):
+    """A process whose command line is Snakemake's (``python .../snakemake
+    ARGS``), working in ``cwd``."""
+    script = Path(folder) / "snakemake"
+    script.write_text(f"#!{sys.executable}\nimport time\ntime.sleep(60)\n")
+    script.chmod(0o755)
+    return subprocess.Popen([os.fsencode(script), *args], cwd=cwd)
+
+
 def test_live_snakemake_processes_are_those_working_here(tmp_path):
     here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
     here.mkdir()
     elsewhere.mkdir()
-    ours, other, away = sleeper(here, "SnakeMake"), sleeper(here, "make"), sleeper(elsewhere, "snakemake")
+    ours, other, away = fake_snakemake(tmp_path, here), sleeper(here, "snakemake"), fake_snakemake(tmp_path, elsewhere)
     try:
         time.sleep(0.3)
         found = live_snakemake_processes(here)
-        assert found == {ours.pid: f"{sys.executable} -c import time; time.sleep(60) SnakeMake"}
+        assert found == {ours.pid: f"{sys.executable} {tmp_path / 'snakemake'}"}
         assert live_snakemake_processes(here / ".." / "here") == found
         assert live_snakemake_processes(here, exclude={ours.pid}) == {}
         (here / ".snakemake" / "locks").mkdir(parents=True)
@@ -772,12 +781,11 @@ def test_live_snakemake_processes_are_those_working_here(tmp_path):
 
 
 def test_a_command_line_that_is_not_utf8_is_read(tmp_path):
-    odd = subprocess.Popen([sys.executable.encode(), b"-c", b"import time; time.sleep(60)", b"\xff", b"snakemake"],
-                           cwd=tmp_path)
+    odd = fake_snakemake(tmp_path, tmp_path, b"\xff", b"--cores")
     try:
         time.sleep(0.3)
-        assert live_snakemake_processes(tmp_path) == {odd.pid: f"{sys.executable} -c import time; time.sleep(60) "
-                                                               "\ufffd snakemake"}
+        assert live_snakemake_processes(tmp_path) == {odd.pid: f"{sys.executable} {tmp_path / 'snakemake'} "
+                                                               "\ufffd --cores"}
     finally:
         odd.kill()
         odd.wait()

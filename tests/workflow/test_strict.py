@@ -309,7 +309,14 @@ def test_stale_lock_is_cleared_and_live_run_is_reported(tmp_path):
     (locks / "0.input.lock").write_text("x")
     assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
     (locks / "0.output.lock").write_text("x")
-    live = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", "snakemake"], cwd=tmp_path)
+    # a Snakemake running there (its command line is `python -m snakemake ...`); a command that merely names
+    # snakemake is no run
+    fake = tmp_path / "fake" / "snakemake"
+    fake.mkdir(parents=True)
+    (fake / "__main__.py").write_text("import time\ntime.sleep(60)\n")
+    named = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)", "snakemake"], cwd=tmp_path)
+    live = subprocess.Popen([sys.executable, "-m", "snakemake", "--cores", "1"], cwd=tmp_path,
+                            env=dict(os.environ, PYTHONPATH=str(tmp_path / "fake")))
     try:
         time.sleep(0.5)
         assert stale_locks.main(tmp_path) == stale_locks.ACTIVE
@@ -317,7 +324,11 @@ def test_stale_lock_is_cleared_and_live_run_is_reported(tmp_path):
     finally:
         live.kill()
         live.wait()
-    assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
+    try:
+        assert stale_locks.main(tmp_path) == 0 and not list(locks.iterdir())
+    finally:
+        named.kill()
+        named.wait()
 
 
 def regenerate_small(work):
