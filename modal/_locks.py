@@ -35,10 +35,12 @@ def is_snakemake_run(argv, cwd, root) -> bool:
     or a job it started there (a Python script of ``root/.snakemake/scripts``)."""
     if not argv or Path(cwd) != Path(root):
         return False
-    names = [os.path.basename(a) for a in argv[:2]]
-    if names[0] == "snakemake" or argv[1:3] == ["-m", "snakemake"] or names[1:] == ["snakemake"]:
+    if os.path.basename(argv[0]) == "snakemake":
         return True
-    return len(argv) > 1 and (Path(cwd) / argv[1]).parent == Path(root) / ".snakemake" / "scripts"
+    if not os.path.basename(argv[0]).startswith("python") or len(argv) < 2:
+        return False  # (less .snakemake/scripts/x.py is no job)
+    return (argv[1:3] == ["-m", "snakemake"] or os.path.basename(argv[1]) == "snakemake"
+            or (Path(cwd) / argv[1]).parent == Path(root) / ".snakemake" / "scripts")
 
 
 def live_snakemake_processes(root, exclude=()) -> dict[int, str]:

@@ -154,6 +154,7 @@ def test_a_snakemake_run_is_its_scheduler_or_its_jobs_working_in_the_folder(tmp_
         "module": None,
         "job": subprocess.Popen([sys.executable, str(job)], cwd=here),
         "tail": subprocess.Popen(["tail", "-f", "/dev/null", ".snakemake/scripts/x.py"], cwd=here),
+        "tail named": subprocess.Popen(["tail", "-f", "snakemake"], cwd=here, stderr=subprocess.DEVNULL),
         "named": subprocess.Popen([sys.executable, "-c", sleep, "snakemake", "-m", "snakemake"], cwd=here),
         "elsewhere": subprocess.Popen([str(tmp_path / "snakemake")], cwd=tmp_path),
     }
