@@ -191,6 +191,7 @@ def parser() -> argparse.ArgumentParser:
                     "modal identify), track the modes over time and write a report; a Snakemake workflow that "
                     "resumes after an interruption and, with --profile, runs on a cluster.",
         epilog="Exit codes: 0 done, 2 bad options or campaign file (also: another run is active in --out), "
+               "4 done but no record identified (failed.csv says why), "
                "7 the workflow stopped (its log says why; run again to resume), 128+N stopped by signal N "
                "(130 SIGINT, 143 SIGTERM, 129 SIGHUP: the workflow and its jobs are stopped with it; run again "
                "to resume).",
@@ -402,7 +403,7 @@ def campaign(args) -> int:
     options, its messages on stderr; returns the exit code."""
     import shlex
 
-    from modal.campaign import WorkflowStopped, run
+    from modal.campaign import NoRecordIdentified, WorkflowStopped, run
     from modal.measured import OutputError
 
     # What asks for these results, for the report; --cores and --profile change none of them.
@@ -428,6 +429,9 @@ def campaign(args) -> int:
         print(f"modal campaign: the workflow stopped (exit {exc.returncode}); its log is in {exc.log}; "
               "run the same command again to resume", file=sys.stderr)
         return EXIT_WORKFLOW
+    except NoRecordIdentified as exc:
+        print(f"modal campaign: warning: {exc}", file=sys.stderr)
+        return EXIT_CANNOT_IDENTIFY
     return 0
 
 

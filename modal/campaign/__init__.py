@@ -22,14 +22,15 @@ _LAZY_NAMES = {
     "_run": ("report_campaign", "track_campaign"),
     "_simulated": ("crossing_frame_modes", "shear_frame_modes", "simulate_campaign"),
     "_tracking": ("observed_ranges", "read_reference_modes", "reference_modes", "track_modes"),
-    "_workflow": ("SNAKEFILE", "WorkflowStopped", "run"),
+    "_workflow": ("SNAKEFILE", "NoRecordIdentified", "WorkflowStopped", "run"),
 }
 _MODULE_OF = {name: module for module, names in _LAZY_NAMES.items() for name in names}
 # A literal, for the API pages (read without importing); a test holds it equal to the map's names.
-__all__ = ["SNAKEFILE", "WorkflowStopped", "campaign_inputs", "campaign_report", "chunks", "covariate_figure",
-           "crossing_frame_modes", "gather", "identify_chunk", "identify_one", "mode_summary", "observed_ranges",
-           "overview_figure", "read_campaign", "read_reference_modes", "reference_modes", "report_campaign", "run",
-           "shear_frame_modes", "simulate_campaign", "track_campaign", "track_modes", "tracking_figure"]
+__all__ = ["SNAKEFILE", "NoRecordIdentified", "WorkflowStopped", "campaign_inputs", "campaign_report", "chunks",
+           "covariate_figure", "crossing_frame_modes", "gather", "identify_chunk", "identify_one", "mode_summary",
+           "observed_ranges", "overview_figure", "read_campaign", "read_reference_modes", "reference_modes",
+           "report_campaign", "run", "shear_frame_modes", "simulate_campaign", "track_campaign", "track_modes",
+           "tracking_figure"]
 
 
 def __getattr__(name):
@@ -50,4 +51,4 @@ if TYPE_CHECKING:  # what static type checkers see; never run
     from ._run import report_campaign, track_campaign
     from ._simulated import crossing_frame_modes, shear_frame_modes, simulate_campaign
     from ._tracking import observed_ranges, read_reference_modes, reference_modes, track_modes
-    from ._workflow import SNAKEFILE, WorkflowStopped, run
+    from ._workflow import SNAKEFILE, NoRecordIdentified, WorkflowStopped, run

@@ -40,6 +40,7 @@ from pathlib import Path
 
 import pandas as pd
 
+
 def _identify_schema() -> dict:
     """The ``identify`` section's schema: :class:`modal.IdentifyOptions`'s own."""
     from ..measured import IdentifyOptions
@@ -107,7 +108,8 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
     config : dict
         As written, with the defaults filled in (``identify`` holds every
         option of :class:`modal.IdentifyOptions`) and paths made absolute;
-        ``layout``: the channel count and rate every record must share;
+        ``layout``: the channel count, rate and units every record must
+        share (those most records read agree on: :func:`_layout`);
         ``geometry``: None, or the geometry's ``folder``, the ``channels``
         file (or None), the channel table of the channels identified
         (``table``: records of :mod:`modal.setups`' channel table) and the
@@ -172,16 +174,47 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
                          "x and ./x, are one record)")
     index = index.sort_values(["time", "record"], kind="stable").reset_index(drop=True)
     options = IdentifyOptions.from_mapping(config["identify"])
-    config["layout"] = _layout(path, options, index)
-    config["geometry"] = _geometry(path, config.get("geometry"), options, config["layout"], index)
+    if options.fs is None:  # a .npy array holds no rate: every such record would fail in its job
+        npy = index["record"][index["path"].str.lower().str.endswith(".npy")]
+        if len(npy):
+            raise ValueError(f"{path}: identify.fs: {len(npy)} record(s) are .npy arrays, which hold no sampling "
+                             f"rate (e.g. {npy.iloc[0]}): give their rate as identify.fs (Hz) in the campaign file")
+    config["layout"], example = _layout(path, options, index)
+    config["geometry"] = _geometry(path, config.get("geometry"), options, config["layout"], index, example)
+    if config["tracking"]["reference_modes"]:
+        _check_reference_modes(path, config["tracking"]["reference_modes"], options, config["layout"])
     return config, index
 
 
-def _geometry(path: Path, given: dict | None, options, layout: dict | None, index: pd.DataFrame) -> dict | None:
+def _check_reference_modes(path: Path, reference: str, options, layout: dict | None) -> None:
+    """The ``tracking.reference_modes`` file read
+    (:func:`modal.campaign.read_reference_modes`: a table of modes, finite
+    frequencies and shapes, no row twice), its shape entries as many as the
+    channels identified (``identify.channels``, else the records'): refused
+    before any job."""
+    from ._tracking import read_reference_modes
+
+    try:
+        table = read_reference_modes(reference)
+    except ValueError as exc:
+        raise ValueError(f"{path}: tracking.reference_modes: {exc}") from None
+    used = len(options.channels) if options.channels is not None else \
+        (None if layout is None else layout["n_channels"])
+    given = sum(1 for c in table.columns if str(c).startswith("phi_"))
+    if used is not None and given != used:
+        where = f"identify.channels names {used}" if options.channels is not None else \
+            f"the records have {used}"
+        raise ValueError(f"{path}: tracking.reference_modes: {reference} has shapes over {given} channels, "
+                         f"{where}: give one phi_ column per channel identified")
+
+
+def _geometry(path: Path, given: dict | None, options, layout: dict | None, index: pd.DataFrame,
+              example: str | None = None) -> dict | None:
     """The ``geometry`` section checked, with absolute paths, or None when
     absent: the geometry read (:func:`modal.setups.read_geometry`), the
     channel table read against it (``channels``, else the geometry's sensors
-    matched by name to the channels of the layout's record), every channel
+    matched by name to the channels of ``example``, a record of the
+    layout: :func:`_layout`), every channel
     of the table among those identified (``identify.channels``). Adds
     ``table`` (the table's rows, as records) and ``shape_channels`` (the
     record channel of each shape entry ``phi_<k>``); ``table`` is None when
@@ -210,7 +243,7 @@ def _geometry(path: Path, given: dict | None, options, layout: dict | None, inde
         elif layout is None:
             table = None
         else:
-            record = read_record(index.loc[index["record"] == layout["record"], "path"].iloc[0], options.fs)
+            record = read_record(index.loc[index["record"] == example, "path"].iloc[0], options.fs)
             table = geometry.channel_table(record.channels["name"])
     except ValueError as exc:
         raise ValueError(f"{path}: geometry.{'channels' if channels is not None else 'folder'}: {exc}") from None
@@ -238,29 +271,70 @@ def channel_units(record) -> list:
             for u in units]
 
 
-def _layout(path, options, index) -> dict | None:
-    """The channel count, sampling rate and channel units of the campaign's
-    first record that reads (``record``, ``n_channels``, ``fs``, ``units``:
-    :func:`channel_units`), which every record must
-    share (:func:`modal.campaign.identify_one` fails one that does not), or
-    None when none reads. Options that record cannot take (fmax above its
-    Nyquist frequency, a channel it lacks:
-    :meth:`IdentifyOptions.record_problems`) would fail every record alike:
-    refused here, before any job. A record that cannot be read is left to
-    its job (it lands in ``failed.csv``)."""
-    from ..records import read_record
+#: Records read to find the campaign's layout (:func:`_layout`): this many
+#: (all of a smaller campaign), evenly spread over its time.
+LAYOUT_SAMPLE = 9
 
-    for record_path, name in zip(index["path"], index["record"]):
+
+def _layout(path, options, index) -> tuple[dict | None, str | None]:
+    """The channel count, sampling rate and channel units (``n_channels``,
+    ``fs``, ``units``: :func:`channel_units`) the campaign's records agree
+    on, which every record must share (:func:`modal.campaign.identify_one`
+    fails one that does not), and the first record in time that has them
+    (whose channel names a geometry's sensors are matched to); ``(None,
+    None)`` when no record reads.
+
+    :data:`LAYOUT_SAMPLE` records are read (all of a small campaign): those
+    evenly spread over the campaign's time first, then, for each of them
+    that is missing or does not read, the others in time order; the layout is
+    the one most of them share (of equal counts, the earliest's), so one odd
+    record (a file cut short, a logger reconfigured for a day) fails alone in
+    its job, whatever its place. The layout holds only these values, not
+    which record gave them: the chunks' jobs depend on the values alone.
+
+    Options no record of that layout can take (fmax above its Nyquist
+    frequency, a channel it lacks: :meth:`IdentifyOptions.record_problems`)
+    would fail every record alike: refused here, before any job, as is a
+    record whose file holds no sampling rate when ``identify.fs`` is not
+    given. A record that cannot be read otherwise is left to its job (it
+    lands in ``failed.csv``)."""
+    import numpy as np
+
+    from ..records import read_record
+    from ..records import GIVE_FS
+
+    n = len(index)
+    spread = list(dict.fromkeys(np.linspace(0, n - 1, min(n, LAYOUT_SAMPLE)).round().astype(int).tolist()))
+    taken = set(spread)
+    found, read = {}, 0  # layout (as a key) -> (position, name, rate) of the records that have it
+    for k in spread + [k for k in range(n) if k not in taken]:
+        if read == LAYOUT_SAMPLE:
+            break
+        name, record_path = index["record"].iloc[k], index["path"].iloc[k]
+        if not os.path.isfile(record_path):  # missing: its job says so
+            continue
         try:
             record = read_record(record_path, options.fs)
-        except Exception:  # any reader's failure: the record's job names it
+        except Exception as exc:  # any reader's failure: the record's job names it
+            if options.fs is None and GIVE_FS in str(exc):
+                raise ValueError(f"{path}: identify.fs: record {name} holds no sampling rate: give the rate of "
+                                 "the campaign's records as identify.fs (Hz) in the campaign file") from None
             continue
-        problems = options.record_problems(record.acc.shape[1], record.fs)
-        if problems:
-            raise ValueError(f"{path}: identify.{problems[0]} (record {name}, the first that reads)")
-        return {"record": name, "n_channels": int(record.acc.shape[1]), "fs": float(record.fs),
-                "units": channel_units(record)}
-    return None
+        read += 1
+        key = (int(record.acc.shape[1]), float(f"{record.fs:.9g}"), tuple(channel_units(record)))
+        found.setdefault(key, []).append((int(k), name, float(record.fs)))
+    if not found:
+        return None, None
+    key = max(found, key=lambda key: (len(found[key]), -min(k for k, _, _ in found[key])))
+    _, name, fs = min(found[key])
+    layout = {"n_channels": key[0], "fs": fs, "units": list(key[2])}
+    problems = options.record_problems(layout["n_channels"], fs)
+    if problems:
+        agreeing = len(found[key])
+        raise ValueError(f"{path}: identify.{problems[0]} (the campaign's records: {layout['n_channels']} "
+                         f"channels at {fs:g} Hz, as {name}" + (f" and {agreeing - 1} other(s)" if agreeing > 1
+                                                                 else "") + f" of the {read} read)")
+    return layout, name
 
 
 def _read_index(index_path: Path, base: Path, time_format: str | None = None) -> pd.DataFrame:
@@ -269,7 +343,10 @@ def _read_index(index_path: Path, base: Path, time_format: str | None = None) ->
     temperature, a wind speed) as it is. Times are ISO 8601
     (``2025-02-01T13:00``, ``2025-02-01 13:00``) or follow ``time_format``:
     ``01/02/2025`` could be either day or month first, so it needs the
-    format said."""
+    format said. Times with a UTC offset are converted to UTC
+    (:func:`_index_times`); another column named as one of the campaign's
+    own (``record``, ``mode``, ``freq_hz``, ...) is kept as ``index_<name>``
+    (:func:`_index_column_names`)."""
     try:
         table = pd.read_csv(index_path, dtype={"path": str, "time": str})
     except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
@@ -280,7 +357,7 @@ def _read_index(index_path: Path, base: Path, time_format: str | None = None) ->
     if missing.any():
         row = int(missing.to_numpy().nonzero()[0][0])
         raise ValueError(f"{index_path}: row {row + 2}: no {'path' if pd.isna(table['path'][row]) else 'time'}")
-    times = pd.to_datetime(table["time"], errors="coerce", format=time_format or "ISO8601")
+    times = _index_times(index_path, table["time"], time_format)
     if times.isna().any():
         row = int(times.isna().to_numpy().nonzero()[0][0])
         expected = f"records.time_format {time_format!r}" if time_format else \
@@ -289,7 +366,54 @@ def _read_index(index_path: Path, base: Path, time_format: str | None = None) ->
     given = [os.path.normpath(p) for p in table["path"]]
     paths = [str((base / p).resolve()) for p in given]
     others = table.drop(columns=["path", "time"])
-    return pd.concat([pd.DataFrame({"record": given, "path": paths, "time": times}), others], axis=1)
+    return pd.concat([pd.DataFrame({"record": given, "path": paths, "time": times}),
+                      others.rename(columns=_index_column_names(others.columns))], axis=1)
+
+
+def _index_column_names(columns) -> dict:
+    """The index's other columns (a temperature, a wind speed) renamed where
+    a name is one of the campaign's own (the index's, the modes' and the
+    tracked modes': ``record``, ``mode``, ``freq_hz``, ..., or a shape's
+    ``phi_<k>``), which the report joins them to: ``mode`` is kept as
+    ``index_mode`` (``index_index_mode`` when the index has that too)."""
+    from ._jobs import FAILED_COLUMNS, MODE_COLUMNS
+    from ._tracking import TRACKED_COLUMNS  # here: the jobs' channel_units does not import the tracking
+
+    own = {"path", "time", *FAILED_COLUMNS, *MODE_COLUMNS, *TRACKED_COLUMNS}
+    taken, renamed = set(map(str, columns)), {}
+    for column in columns:
+        name = str(column)
+        if name in own or name.startswith("phi_"):
+            new = f"index_{name}"
+            while new in taken:
+                new = f"index_{new}"
+            renamed[column] = new
+            taken.add(new)
+    return renamed
+
+
+def _index_times(index_path: Path, text: pd.Series, time_format: str | None) -> pd.Series:
+    """The index's times (``NaT`` where one does not parse). Times with a
+    UTC offset (``+01:00``, ``Z``) are converted to UTC, whatever their
+    offsets (daylight saving changes them in the year); times with one and
+    times without are refused (which zone would the latter be in?), naming
+    a row of each."""
+    form = time_format or "ISO8601"
+    try:
+        times = pd.to_datetime(text, errors="coerce", format=form)
+    except ValueError:  # offsets that differ, or times with an offset and times without
+        parsed = [pd.to_datetime(t, errors="coerce", format=form) for t in text]
+        aware = [t is not pd.NaT and t.tzinfo is not None for t in parsed]
+        naive = [t is not pd.NaT and t.tzinfo is None for t in parsed]
+        if any(aware) and any(naive):
+            with_offset, without = aware.index(True), naive.index(True)
+            raise ValueError(f"{index_path}: row {without + 2}: time {text.iloc[without]!r} has no UTC offset, "
+                             f"row {with_offset + 2}'s {text.iloc[with_offset]!r} has one: give every time an "
+                             "offset (e.g. +01:00, converted to UTC) or none") from None
+        times = pd.to_datetime(text, errors="coerce", format=form, utc=True)
+    if isinstance(times.dtype, pd.DatetimeTZDtype):
+        times = times.dt.tz_convert("UTC")
+    return times
 
 
 def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | None) -> pd.DataFrame:

@@ -13,6 +13,9 @@ import pandas as pd
 
 MODE_COLUMNS = ["record", "time", "mode", "freq_hz", "freq_std_hz", "damping", "damping_std", "mpc", "n_poles"]
 FAILED_COLUMNS = ["record", "reason"]
+#: How a campaign's record without a sampling rate gets one (in place of the
+#: command line's :data:`modal.records.GIVE_FS`).
+CAMPAIGN_FS = "give the sampling rate: identify.fs (Hz) in the campaign file"
 
 
 def identify_one(path, options, layout: dict | None = None, warned: list | None = None):
@@ -21,8 +24,8 @@ def identify_one(path, options, layout: dict | None = None, warned: list | None 
     file's ``identify`` section): the :class:`Stabilisation`, or
     ``ValueError``/``OSError`` saying why it cannot be read or identified.
 
-    ``layout`` (``record``, ``n_channels``, ``fs``: the campaign's first
-    record, :func:`modal.campaign.read_campaign`) is what every record must
+    ``layout`` (``n_channels``, ``fs``, ``units``: those the campaign's
+    records agree on, :func:`modal.campaign.read_campaign`) is what every record must
     share: a record with another channel count or rate (a file cut short, a
     logger reconfigured) is refused before identification.
 
@@ -39,17 +42,15 @@ def identify_one(path, options, layout: dict | None = None, warned: list | None 
     if layout is not None:
         n_channels = record.acc.shape[1]
         if n_channels != layout["n_channels"]:
-            raise ValueError(f"{n_channels} channels, the campaign's records {layout['n_channels']} "
-                             f"(as {layout['record']})")
+            raise ValueError(f"{n_channels} channels, the campaign's records {layout['n_channels']}")
         if not math.isclose(record.fs, layout["fs"], rel_tol=1e-9):
-            raise ValueError(f"sampled at {record.fs:g} Hz, the campaign's records at {layout['fs']:g} Hz "
-                             f"(as {layout['record']})")
+            raise ValueError(f"sampled at {record.fs:g} Hz, the campaign's records at {layout['fs']:g} Hz")
         units, expected = channel_units(record), layout.get("units") or [None] * n_channels
         differ = [c for c, (u, e) in enumerate(zip(units, expected)) if u and e and u != e]
         if differ:
             c = differ[0]
-            raise ValueError(f"channel {c} in {units[c]}, the campaign's records in {expected[c]} "
-                             f"(as {layout['record']}): the shapes would mix units")
+            raise ValueError(f"channel {c} in {units[c]}, the campaign's records in {expected[c]}: the shapes "
+                             "would mix units")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")  # each of them, however often one line of code warns
         try:
@@ -76,21 +77,25 @@ def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout
     e.g. a reader's bare ``Exception`` on a corrupt file) puts it in
     ``failed_csv`` with a one-line reason. A record with no structural
     response gives no row in either."""
+    from ..records import GIVE_FS
+
     rows, failed = [], []
     for rec in records.itertuples():
         warned = []
         try:
             result = identify_one(rec.path, options, layout, warned)
         except Exception as exc:  # one record's failure, whatever its kind, is that record's
-            failed.append({"record": rec.record, "reason": _reason(exc)})
+            # the rate is the campaign file's identify.fs, not the command line's --fs
+            failed.append({"record": rec.record, "reason": _reason(exc).replace(GIVE_FS, CAMPAIGN_FS)})
             continue
         finally:
             for line in warned:
                 print(f"{rec.record}: {line}", file=sys.stderr)
         modes = result.modes
         trusted = (modes["flag"].fillna("") == "").to_numpy() if "flag" in modes else np.ones(len(modes), bool)
+        time = pd.Timestamp(rec.time).isoformat()  # one format in every chunk: ISO 8601, whole or not
         for k in np.flatnonzero(trusted):  # a doubtful mode (its flag says why) is never tracked
-            row = {"record": rec.record, "time": rec.time}
+            row = {"record": rec.record, "time": time}
             row.update({c: modes[c].iloc[k] for c in MODE_COLUMNS[2:]})
             row.update({f"phi_{c}": v for c, v in enumerate(result.shapes[:, k])})
             rows.append(row)
@@ -120,7 +125,8 @@ def gather(modes_files, failed_files) -> tuple[pd.DataFrame, pd.DataFrame]:
     frames = [pd.read_csv(f) for f in modes_files]
     modes = pd.concat([f for f in frames if not f.empty] or [pd.DataFrame(columns=MODE_COLUMNS)],
                       ignore_index=True)
-    modes["time"] = pd.to_datetime(modes["time"])
+    # ISO 8601 as identify_chunk writes it; a chunk written before that, as its time's own string
+    modes["time"] = pd.to_datetime(modes["time"], format="ISO8601")
     failed = pd.concat([pd.read_csv(f) for f in failed_files] or [pd.DataFrame(columns=FAILED_COLUMNS)],
                        ignore_index=True)
     return modes, failed

@@ -22,7 +22,9 @@ def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tra
     (:func:`modal.campaign._tracking.observed_ranges`), as built ones have it.
 
     ``n_records`` is the number of records in the campaign (the index itself,
-    as :func:`modal.campaign.read_campaign` returns it, is taken too: its length)."""
+    as :func:`modal.campaign.read_campaign` returns it, is taken too: its length);
+    built references need ``tracking["min_share"]`` of those identified
+    (the failed ones, listed in ``failed_files``, left out)."""
     folder = Path(folder)
     if isinstance(n_records, pd.DataFrame):
         n_records = len(n_records)
@@ -31,8 +33,9 @@ def track_campaign(modes_files, failed_files, n_records: int | pd.DataFrame, tra
         references = observed_ranges(modes, read_reference_modes(tracking["reference_modes"]),
                                      tracking["freq_rtol"], tracking["mac_min"])
     else:
-        references = reference_modes(modes, n_records, tracking["freq_rtol"], tracking["min_share"],
-                                     tracking["mac_min"])
+        # min_share of the records identified: failed and missing ones show no mode
+        references = reference_modes(modes, n_records - failed["record"].nunique(), tracking["freq_rtol"],
+                                     tracking["min_share"], tracking["mac_min"])
     tracked, untracked = track_modes(modes, references, tracking["freq_rtol"], tracking["mac_min"], shapes=True)
     mean_shapes(tracked, references).to_csv(folder / "tracked_shapes.csv", index=False, float_format="%.8g")
     tracked = tracked[TRACKED_COLUMNS]

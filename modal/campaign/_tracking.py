@@ -41,15 +41,40 @@ RANGE_COLUMNS = ["freq_low_hz", "freq_high_hz"]
 def read_reference_modes(path) -> pd.DataFrame:
     """Reference modes from a CSV with ``freq_hz`` and shape columns
     ``phi_<...>`` (in file order), e.g. a ``modes.csv`` of ``modal identify``;
-    renumbered 1, 2, ... by frequency with shape columns ``phi_0``, ...."""
-    table = pd.read_csv(path)
+    renumbered 1, 2, ... by frequency with shape columns ``phi_0``, ....
+
+    Raises ``ValueError`` naming the file (and the row) when it cannot be
+    read, lacks those columns or any mode, holds a frequency that is not a
+    positive number or a shape entry that is not a finite number (an empty
+    cell), or gives one mode twice (a row repeated)."""
+    try:
+        table = pd.read_csv(path)
+    except (OSError, UnicodeDecodeError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise ValueError(f"{path}: cannot read the reference modes: {exc}") from None
     columns = [c for c in table.columns if str(c).startswith("phi_")]
     if "freq_hz" not in table.columns or not columns:
-        raise ValueError(f"{path}: reference modes need a freq_hz column and shape columns phi_...")
-    table = table.sort_values("freq_hz", kind="stable").reset_index(drop=True)
-    out = pd.DataFrame({"mode": np.arange(1, len(table) + 1), "freq_hz": table["freq_hz"].astype(float)})
+        raise ValueError(f"{path}: reference modes need a freq_hz column and shape columns phi_...; it has "
+                         f"{', '.join(map(str, table.columns)) or 'none'}")
+    if table.empty:
+        raise ValueError(f"{path}: no reference mode (a header and no row)")
+    values = table[["freq_hz", *columns]].apply(pd.to_numeric, errors="coerce")
+    bad = ~np.isfinite(values.to_numpy(dtype=float)) | (values[["freq_hz"]].reindex(columns=values.columns)
+                                                        .fillna(1).to_numpy() <= 0)
+    if bad.any():
+        row, column = (int(k) for k in np.argwhere(bad)[0])
+        given = table[values.columns[column]].iloc[row]
+        what = "a positive frequency" if column == 0 else "a finite number"
+        shown = "(empty)" if pd.isna(given) else f"'{given}'"
+        raise ValueError(f"{path}: row {row + 2}: {values.columns[column]} {shown} is not {what}")
+    repeated = values.duplicated()
+    if repeated.any():
+        row = int(np.flatnonzero(repeated.to_numpy())[0])
+        first = int(np.flatnonzero((values == values.iloc[row]).all(axis=1).to_numpy())[0])
+        raise ValueError(f"{path}: row {row + 2} repeats row {first + 2}: give each mode once")
+    values = values.sort_values("freq_hz", kind="stable").reset_index(drop=True)
+    out = pd.DataFrame({"mode": np.arange(1, len(values) + 1), "freq_hz": values["freq_hz"]})
     for k, c in enumerate(columns):
-        out[f"phi_{k}"] = table[c].astype(float)
+        out[f"phi_{k}"] = values[c]
     return out
 
 

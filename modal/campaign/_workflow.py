@@ -174,6 +174,18 @@ def _run_snakemake(call) -> tuple[int, int | None]:
             signal.signal(signum, handler)
 
 
+class NoRecordIdentified(RuntimeError):
+    """The campaign's workflow ran to the end but every one of its
+    ``n_records`` records failed (could not be read or identified, or did
+    not share the campaign's layout): ``failed`` (``out/failed.csv``) says
+    why for each. The outputs are written (with no mode tracked)."""
+
+    def __init__(self, n_records: int, failed: Path):
+        super().__init__(f"no record was identified: all {n_records} failed; {failed} says why for each")
+        self.n_records = n_records
+        self.failed = failed
+
+
 def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, command: str | None = None,
         log: Callable[[str], None] | None = None) -> Path:
     """Identify every record of a campaign, track the modes and write the report.
@@ -234,6 +246,9 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
         interrupted: :class:`WorkflowInterrupted` when this process received
         SIGINT, SIGTERM or SIGHUP (in the main thread), which stop Snakemake
         and its jobs as Ctrl-C does.
+    NoRecordIdentified
+        The workflow ran to the end (its outputs are written) but no record
+        was identified: every one is in ``failed.csv``.
     """
     from ..measured import OutputError, check_output
 
@@ -294,6 +309,12 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
         log(f"nothing to do: {out / 'tracked.csv'} and {report} were up to date")
     elif not dry_run:
         log(f"wrote {out / 'tracked.csv'} and {report}")
+    if not dry_run:
+        import pandas as pd
+
+        failed = pd.read_csv(out / "failed.csv")["record"].nunique()
+        if failed >= len(index):
+            raise NoRecordIdentified(len(index), out / "failed.csv")
     return out
 
 

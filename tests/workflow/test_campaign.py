@@ -145,14 +145,14 @@ def test_campaign_file_refusals(tmp_path, capsys):
     (tmp_path / "i.csv").write_text("path,time\na.npy,noon\n")
     refused("records: {index: i.csv}\nidentify: {excitation: ambient}\n",
             "row 2: time 'noon' does not follow ISO 8601")
-    # Settings every record would fail alike: refused before any job (the first
-    # record that reads is checked; one that does not is left to its job).
+    # Settings every record would fail alike: refused before any job (the layout
+    # the records that read agree on is checked; one that does not read is left to its job).
     modal.save_record_npz(tmp_path / "b.npz", np.random.default_rng(0).standard_normal((2000, 3)), 0.05)
     (tmp_path / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\nb.npz,2025-01-02\n")
     (tmp_path / "broken.npz").write_text("not a record")
     base = "records: {index: i.csv}\nidentify: {excitation: ambient, "
     refused(base + "fmax: 10}\n", "identify.fmax = 10 Hz must be below the Nyquist frequency 10 Hz (fs = 20 Hz) "
-                                  "(record b.npz, the first that reads)")
+                                  "(the campaign's records: 3 channels at 20 Hz, as b.npz of the 1 read)")
     refused(base + "channels: [0, 3]}\n", "identify.channels [3]: the record has channels 0 ... 2")
     refused(base + "fmax: 5, highpass_hz: 5}\n", "identify.highpass_hz = 5 Hz must be below fmax = 5 Hz")
     refused(base + "rows: 30.0}\n", "identify.rows must be an integer, got 30.0")
@@ -212,8 +212,9 @@ def test_tracking_is_one_to_one_and_gated():
 def test_run_is_the_entry_point_resumes_and_raises_when_a_job_fails(tmp_path):
     """``modal.campaign.run`` (what ``modal campaign`` calls) writes every
     job's log and names its call in the report; run again, with other
-    cores, it reruns nothing and says what it did. A job that fails (here
-    the tracking, on a reference file that is not a table of modes) raises
+    cores, it reruns nothing and says what it did. A reference file that is
+    not a table of modes is refused before any job. A job that fails (here
+    the tracking, on a chunk's file whose time is not one) raises
     ``WorkflowStopped`` with Snakemake's exit code and where its log is; the
     identification jobs are kept."""
     simulate_campaign(tmp_path, n_records=3, every_hours=12, duration=120.0)
@@ -228,14 +229,21 @@ def test_run_is_the_entry_point_resumes_and_raises_when_a_job_fails(tmp_path):
     assert {p: p.stat().st_mtime_ns for p in stamps} == stamps
     assert messages == ["3 records in 1 chunks of up to 25",
                         f"nothing to do: {out / 'tracked.csv'} and {out / 'report.html'} were up to date"]
+    # a reference file that is not a table of modes: refused before any job (nothing rerun)
     (tmp_path / "bad.csv").write_text("not,modes\n1,2\n")
-    text = (tmp_path / "campaign.yaml").read_text() + "tracking: {reference_modes: bad.csv}\n"
-    (tmp_path / "campaign.yaml").write_text(text)
+    (tmp_path / "bad.yaml").write_text((tmp_path / "campaign.yaml").read_text() +
+                                       "tracking: {reference_modes: bad.csv}\n")
+    with pytest.raises(ValueError, match="bad.yaml: tracking.reference_modes: .*bad.csv: reference modes need"):
+        modal.campaign.run(tmp_path / "bad.yaml", out)
+    assert {p: p.stat().st_mtime_ns for p in stamps} == stamps
+    # a chunk's file overwritten with a time that is not one: the tracking fails
+    chunk = out / "chunks" / "c00000" / "modes.csv"
+    chunk.write_text("record,time,freq_hz\nx,yesterday,1.0\n")
+    stamp = chunk.stat().st_mtime_ns
     with pytest.raises(modal.campaign.WorkflowStopped) as stopped:
         modal.campaign.run(tmp_path / "campaign.yaml", out)
     assert stopped.value.returncode != 0 and stopped.value.log == out / ".snakemake" / "log"
-    chunk = out / "chunks" / "c00000" / "modes.csv"
-    assert chunk.stat().st_mtime_ns == stamps[chunk]  # the identification was not rerun
+    assert chunk.stat().st_mtime_ns == stamp  # the identification was not rerun
     assert "Error" in (out / "logs" / "track.log").read_text()
 
 

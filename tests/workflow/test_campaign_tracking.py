@@ -301,7 +301,7 @@ def test_reference_modes_are_read_renumbered_by_frequency(tmp_path):
     assert table.to_dict("list") == {"mode": [1, 2], "freq_hz": [2.0, 5.0], "phi_0": [1.0, 0.1],
                                      "phi_1": [0.5, -1.0]}
     assert table["phi_0"].dtype == float and table["freq_hz"].dtype == float
-    many = pd.DataFrame({"freq_hz": np.r_[np.ones(50), np.zeros(50)], "phi_a": np.arange(100)})
+    many = pd.DataFrame({"freq_hz": np.r_[2 * np.ones(50), np.ones(50)], "phi_a": np.arange(100)})
     many.to_csv(tmp_path / "many.csv", index=False)
     table = read_reference_modes(tmp_path / "many.csv")
     assert table["phi_0"].tolist() == list(range(50, 100)) + list(range(50))

@@ -267,3 +267,64 @@ def test_any_folder_name_and_a_rerun_that_did_nothing_says_so(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().err and (out / "tracked.csv").is_file()
     assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(out)]) == 0
     assert "nothing to do" in capsys.readouterr().err
+
+
+@pytest.mark.slow  # runs a campaign, twice
+def test_an_odd_first_record_fails_alone_and_mixed_chunks_are_tracked(tmp_path, capsys):
+    """Six records and 20 listed that do not exist, in chunks of 3: the first
+    in time has a channel fewer (it fails alone: the layout is the records'
+    majority's); the first chunk's times are whole days, the second's have a
+    fractional second (one time format in every chunk); index columns
+    ``mode`` and ``freq_hz`` are kept as ``index_mode``, ``index_freq_hz``;
+    the references need min_share of the 5 records identified, not of the
+    26 listed. Deleting the first record reruns its chunk only: the chunks
+    depend on the layout's values, not on which record gave them."""
+    folder = tmp_path / "campaign"
+    simulate_campaign(folder, n_records=6, every_hours=12, duration=120.0)
+    text = (folder / "campaign.yaml").read_text().replace("chunk: 25", "chunk: 3").split("geometry:")[0]
+    (folder / "campaign.yaml").write_text(text)
+    index = pd.read_csv(folder / "index.csv")
+    first = modal.read_record(folder / index["path"][0])
+    modal.save_record_npz(folder / index["path"][0], first.acc[:, :3], first.dt)
+    index["time"] = ["2025-01-01", "2025-01-02", "2025-01-03",
+                     "2025-01-03T06:00:00.25", "2025-01-03T07:00:00", "2025-01-03T08:00:00.5"]
+    index["mode"], index["freq_hz"] = 7, 1.5
+    missing = pd.DataFrame({"path": [f"records/later_{k}.npz" for k in range(20)],
+                            "time": [f"2025-02-{k + 1:02d}T00:00:00" for k in range(20)]})
+    pd.concat([index, missing]).to_csv(folder / "index.csv", index=False)
+    out = tmp_path / "out"
+    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(out), "--cores", "2"]) == 0
+    failed = pd.read_csv(out / "failed.csv").set_index("record")["reason"]
+    assert len(failed) == 21
+    assert failed[index["path"][0]] == "3 channels, the campaign's records 4"
+    tracked = pd.read_csv(out / "tracked.csv")
+    assert sorted(tracked["record"].unique()) == sorted(index["path"][1:])
+    assert len(tracked) == 5 * 4 and sorted(tracked["mode"].unique()) == [1, 2, 3, 4]
+    times = pd.to_datetime(tracked.drop_duplicates("record")["time"], format="ISO8601")
+    assert list(times) == list(pd.to_datetime(index["time"][1:], format="ISO8601"))
+    assert pd.read_csv(out / "references.csv")["n_records"].tolist() == [5, 5, 5, 5]
+    report = (out / "report.html").read_text()
+    assert "<b>26</b> records: <b>5</b> identified" in report and "<h2>Frequency against the index" in report
+    stamps = {p.parent.name: p.stat().st_mtime_ns for p in (out / "chunks").glob("*/modes.csv")}
+    (folder / index["path"][0]).unlink()
+    assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(out), "--cores", "2"]) == 0
+    after = {p.parent.name: p.stat().st_mtime_ns for p in (out / "chunks").glob("*/modes.csv")}
+    assert len(after) == 9 and sorted(c for c in after if after[c] != stamps[c]) == ["c00000"]
+    assert "does not exist" in pd.read_csv(out / "failed.csv").set_index("record")["reason"][index["path"][0]]
+
+
+@pytest.mark.slow  # runs a campaign
+def test_a_campaign_with_no_record_identified_says_so_and_exits_4(tmp_path, capsys):
+    """Every record fails (here: none exists): the outputs are written, a
+    warning names failed.csv, the exit code is 4 (done, nothing identified)."""
+    simulate_campaign(tmp_path / "c", n_records=2, duration=60.0)
+    for p in (tmp_path / "c" / "records").iterdir():
+        p.unlink()
+    out = tmp_path / "out"
+    assert cli(["campaign", str(tmp_path / "c" / "campaign.yaml"), "--out", str(out)]) == 4
+    err = capsys.readouterr().err
+    assert f"modal campaign: warning: no record was identified: all 2 failed; {out / 'failed.csv'} says why" in err
+    assert len(pd.read_csv(out / "failed.csv")) == 2 and (out / "report.html").is_file()
+    with pytest.raises(modal.campaign.NoRecordIdentified) as info:
+        modal.campaign.run(tmp_path / "c" / "campaign.yaml", out)
+    assert info.value.n_records == 2 and info.value.failed == out / "failed.csv"

@@ -51,7 +51,7 @@ def test_a_campaign_read_with_its_defaults_and_layout(folder):
     config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
     assert config["tracking"] == {"reference_modes": None, "freq_rtol": 0.05, "mac_min": 0.8, "min_share": 0.3}
     assert config["chunk"] == 50
-    assert config["layout"] == {"record": "a.npz", "n_channels": 3, "fs": 20.0, "units": [None] * 3}
+    assert config["layout"] == {"n_channels": 3, "fs": 20.0, "units": [None] * 3}  # values only, no record
     assert config["identify"] == modal.IdentifyOptions(excitation="ambient").to_dict()
     assert list(index.columns) == ["record", "path", "time"]
     assert list(index["record"]) == ["a.npz", "b.npz"]
@@ -61,7 +61,7 @@ def test_a_campaign_read_with_its_defaults_and_layout(folder):
 
 
 def test_settings_at_their_bounds_are_taken_beyond_them_refused(folder):
-    (folder / "refs.csv").write_text("freq_hz,phi_0\n1.0,1.0\n")
+    (folder / "refs.csv").write_text("freq_hz,phi_0,phi_1,phi_2\n1.0,1.0,0.5,0\n")
     text = ("records: {index: i.csv}\n" + IDENTIFY +
             "tracking: {reference_modes: refs.csv, freq_rtol: 0.5, mac_min: 0, min_share: 1}\nchunk: 1\n")
     config, index = read_campaign(write(folder, text))
@@ -168,7 +168,7 @@ def test_records_at_one_time_are_in_name_order_and_the_layout_skips_what_does_no
     config, index = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
     assert list(index["record"]) == ["a.npz", "b.npz", "broken.npz"]
     assert list(index.index) == [0, 1, 2]
-    assert config["layout"]["record"] == "a.npz"
+    assert config["layout"] == {"n_channels": 3, "fs": 20.0, "units": [None] * 3}
     (folder / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\n")
     config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY))
     assert config["layout"] is None
@@ -255,7 +255,7 @@ def test_a_geometry_that_names_the_sensors_needs_no_channel_table(folder):
     (folder / "geo" / "sens_dir.txt").write_text("1 0 0\n0 1 0\n")
     (folder / "a.npz").write_text("not a record")  # the names of the first record that reads: b.npz
     config, _ = read_campaign(write(folder, "records: {index: i.csv}\n" + IDENTIFY + "geometry: {folder: geo}\n"))
-    assert config["layout"]["record"] == "b.npz"
+    assert config["layout"]["n_channels"] == 3
     table = config["geometry"]["table"]
     assert [(r["channel"], r["name"], r["x"], r["y"]) for r in table] == [(0, "ch1", 0.0, 1.0), (2, "ch3", 1.0, 0.0)]
     assert config["geometry"]["channels"] is None
@@ -451,7 +451,11 @@ def test_the_track_step_writes_every_table(tmp_path):
     # tight tolerances: r1's 2.02 Hz lies 0.75 % above the median; r3's first mode (MAC 0.99) matches at 0.8 only
     track_campaign(modes_files, failed_files, 5, {**TRACKING, "freq_rtol": 0.001, "mac_min": 0.999}, tmp_path)
     assert pd.read_csv(tmp_path / "references.csv").empty
+    # min_share of the 4 records identified (r4 failed): mode 2, in 3 of them (0.75), is a reference at 0.7
+    # (of all 5 it would be 0.6), not at 0.8
     track_campaign(modes_files, failed_files, 5, {**TRACKING, "min_share": 0.7}, tmp_path)
+    assert pd.read_csv(tmp_path / "references.csv")["n_records"].tolist() == [4, 3]
+    track_campaign(modes_files, failed_files, 5, {**TRACKING, "min_share": 0.8}, tmp_path)
     assert pd.read_csv(tmp_path / "references.csv")["mode"].tolist() == [1]
 
 
@@ -564,14 +568,14 @@ def test_a_chunk_writes_each_mode_and_each_failure(folder, stand_in, tmp_path):
     assert list(modes.columns) == MODE_COLUMNS + ["phi_0", "phi_1", "phi_2"]
     b = modal.read_record(folder / "b.npz").acc
     level = float(np.round(np.abs(b[0]).sum(), 6))
-    assert modes.iloc[3].tolist() == ["b.npz", "2025-01-02", 2, 20, 0.2, 0.02, 0.002, 0.8, 6, level + 1,
+    assert modes.iloc[3].tolist() == ["b.npz", "2025-01-02T00:00:00", 2, 20, 0.2, 0.02, 0.002, 0.8, 6, level + 1,
                                       level + 3, level + 5]
     assert modes.iloc[2][["mode", "freq_hz", "phi_0"]].tolist() == [1, pytest.approx(level), level]
     assert list(modes["record"]) == ["a.npz", "a.npz", "b.npz", "b.npz"]
     assert modes_csv.read_text().count(",0.33333333,") == 2  # to 8 significant digits
     assert list(failed.columns) == ["record", "reason"] and list(failed["record"]) == ["short", "slow", "broken"]
-    assert failed["reason"][0] == "2 channels, the campaign's records 3 (as a.npz)"
-    assert failed["reason"][1] == "sampled at 10 Hz, the campaign's records at 20 Hz (as a.npz)"
+    assert failed["reason"][0] == "2 channels, the campaign's records 3"
+    assert failed["reason"][1] == "sampled at 10 Hz, the campaign's records at 20 Hz"
     np.testing.assert_array_equal(shape_matrix(modes[modes["record"] == "b.npz"]), Result(b, 0.05).shapes)
     # no layout: the odd records are identified
     assert identify_one(folder / "short.npz", config["identify"]).shapes.shape == (2, 2)
@@ -657,7 +661,7 @@ def test_a_record_in_other_units_fails_naming_them(tmp_path, stand_in):
     (tmp_path / "i.csv").write_text("path,time\na.lvm,2025-01-01\nb.lvm,2025-01-02\nc.lvm,2025-01-03\n")
     config, _ = read_campaign(write(tmp_path, "records: {index: i.csv}\n" + IDENTIFY))
     assert config["layout"]["units"] == ["g"]
-    with pytest.raises(ValueError, match=r"^channel 0 in m/s2, the campaign's records in g \(as a.lvm\): the "
+    with pytest.raises(ValueError, match=r"^channel 0 in m/s2, the campaign's records in g: the "
                                          r"shapes would mix units$"):
         identify_one(tmp_path / "b.lvm", config["identify"], config["layout"])
     spelt = dict(config["layout"], units=["m/s2"])  # the same unit spelt otherwise is one unit
@@ -668,8 +672,8 @@ def test_a_record_in_other_units_fails_naming_them(tmp_path, stand_in):
 
 
 def test_the_rate_is_compared_to_one_part_in_a_billion(folder, stand_in):
-    layout = {"record": "a.npz", "n_channels": 3, "fs": 20.0 * (1 + 1e-6)}
-    with pytest.raises(ValueError, match=r"sampled at 20 Hz, the campaign's records at 20 Hz \(as a.npz\)"):
+    layout = {"n_channels": 3, "fs": 20.0 * (1 + 1e-6)}
+    with pytest.raises(ValueError, match=r"^sampled at 20 Hz, the campaign's records at 20 Hz$"):
         identify_one(folder / "a.npz", {"excitation": "ambient"}, layout)
     layout["fs"] = 20.0 * (1 + 1e-11)
     assert identify_one(folder / "a.npz", {"excitation": "ambient"}, layout).modes["freq_hz"][1] == 20
@@ -843,3 +847,144 @@ def test_an_output_folder_overlapping_an_input_says_how(tmp_path):
     assert _overlapping_input(tmp_path / "c" / "records" / "a.npz", inputs) == f"is the input {inputs[1]}"
     assert _overlapping_input(tmp_path / "c" / "campaign.yaml" / "x", inputs) == f"lies inside the input {inputs[0]}"
     assert _overlapping_input(Path("."), [Path("x")]) == f"holds the input {Path('x').resolve()}"
+
+
+# -- what the records agree on, the index's times and columns, the references --
+
+
+@pytest.fixture
+def simulated(tmp_path):
+    """Five 10-second records of the simulated frame (4 channels at 50 Hz),
+    one a day, and their campaign file (no geometry)."""
+    from modal.campaign import simulate_campaign
+
+    simulate_campaign(tmp_path, n_records=5, every_hours=24, duration=10.0)
+    (tmp_path / "campaign.yaml").write_text("records: {index: index.csv}\nidentify: {excitation: ambient}\n")
+    return tmp_path, pd.read_csv(tmp_path / "index.csv")
+
+
+def test_the_layout_is_the_one_the_records_agree_on_whatever_the_first(simulated):
+    """The first record with a channel fewer, or at twice the rate: the
+    layout is the others' (4 channels, 50 Hz), with no record's name in it;
+    a record of another layout is refused in its job."""
+    folder, index = simulated
+    first = folder / index["path"][0]
+    good = modal.read_record(first)
+    modal.save_record_npz(first, good.acc[:, :3], good.dt)
+    config, _ = read_campaign(folder / "campaign.yaml")
+    assert config["layout"] == {"n_channels": 4, "fs": 50.0, "units": [None] * 4}
+    with pytest.raises(ValueError, match="^3 channels, the campaign's records 4$"):
+        identify_one(first, config["identify"], config["layout"])
+    modal.save_record_npz(first, np.repeat(good.acc, 2, axis=0), good.dt / 2)
+    config, _ = read_campaign(folder / "campaign.yaml")
+    assert config["layout"] == {"n_channels": 4, "fs": 50.0, "units": [None] * 4}
+    with pytest.raises(ValueError, match="^sampled at 100 Hz, the campaign's records at 50 Hz$"):
+        identify_one(first, config["identify"], config["layout"])
+    # settings no record of the layout takes are refused, naming the layout and how many records agree
+    (folder / "c.yaml").write_text("records: {index: index.csv}\nidentify: {excitation: ambient, fmax: 30}\n")
+    with pytest.raises(ValueError, match=r"identify.fmax = 30 Hz must be below the Nyquist frequency 25 Hz .*"
+                                         r"\(the campaign's records: 4 channels at 50 Hz, as \S+0102_0000.npz and "
+                                         r"3 other\(s\) of the 5 read\)"):
+        read_campaign(folder / "c.yaml")
+
+
+def test_times_with_utc_offsets_are_converted_to_utc_a_mix_with_none_is_refused(simulated):
+    """Daylight saving: +01:00 in winter, +02:00 in summer, converted to UTC
+    (pandas alone refuses the mix); times with an offset and times without
+    are refused naming a row of each."""
+    folder, index = simulated
+    index["time"] = ["2025-01-01T01:00:00+01:00", "2025-03-30T03:00:00+02:00", "2025-03-30T01:30:00+01:00",
+                     "2025-07-01T00:00:00Z", "2025-10-26T02:30:00+01:00"]
+    index.to_csv(folder / "index.csv", index=False)
+    _, read = read_campaign(folder / "campaign.yaml")
+    assert [str(t) for t in read["time"]] == ["2025-01-01 00:00:00+00:00", "2025-03-30 00:30:00+00:00",
+                                              "2025-03-30 01:00:00+00:00", "2025-07-01 00:00:00+00:00",
+                                              "2025-10-26 01:30:00+00:00"]
+    index.loc[3, "time"] = "2025-07-01T00:00:00"
+    index.to_csv(folder / "index.csv", index=False)
+    with pytest.raises(ValueError, match=r"index.csv: row 5: time '2025-07-01T00:00:00' has no UTC offset, row 2's "
+                                         r"'2025-01-01T01:00:00\+01:00' has one"):
+        read_campaign(folder / "campaign.yaml")
+
+
+def test_index_columns_named_as_the_campaigns_own_are_kept_under_a_prefix(simulated):
+    folder, index = simulated
+    index["record"], index["mode"], index["freq_hz"], index["index_mode"] = "r", 1, 2.5, 3
+    index.to_csv(folder / "index.csv", index=False)
+    _, read = read_campaign(folder / "campaign.yaml")
+    assert list(read.columns) == ["record", "path", "time", "temperature_c", "index_record", "index_index_mode",
+                                  "index_freq_hz", "index_mode"]
+    assert list(read["record"]) == list(index["path"]) and list(read["index_freq_hz"]) == [2.5] * 5
+    assert list(read["index_index_mode"]) == [1] * 5 and list(read["index_mode"]) == [3] * 5
+
+
+def test_reference_modes_are_checked_before_any_job(simulated, tmp_path):
+    folder, _ = simulated
+    text = "records: {index: index.csv}\nidentify: {excitation: ambient}\ntracking: {reference_modes: r.csv}\n"
+    good = "freq_hz,phi_0,phi_1,phi_2,phi_3\n1.6,0.2,0.4,0.6,0.7\n4.2,-0.5,-0.5,0,0.7\n"
+    for given, tail in [
+            ("freq_hz,phi_0,phi_1,phi_2\n1.6,0.2,0.4,0.6\n", " has shapes over 3 channels, the records have 4"),
+            ("freq_hz,phi_0,phi_1,phi_2,phi_3\n", ": no reference mode (a header and no row)"),
+            ("freq_hz\n1.6\n", ": reference modes need a freq_hz column and shape columns phi_...; it has freq_hz"),
+            ("freq_hz,phi_0,phi_1,phi_2,phi_3\n1.6,0.2,,0.6,0.7\n", ": row 2: phi_1 (empty) is not a finite number"),
+            ("freq_hz,phi_0,phi_1,phi_2,phi_3\n-1,0.2,0.4,0.6,0.7\n",
+             ": row 2: freq_hz '-1' is not a positive frequency"),
+            (good + "1.6,0.2,0.4,0.6,0.7\n", ": row 4 repeats row 2: give each mode once")]:
+        (folder / "r.csv").write_text(given)
+        refused(folder, text, f"c.yaml: tracking.reference_modes: {folder / 'r.csv'}{tail}")
+    (folder / "r.csv").write_text(good)
+    assert read_campaign(write(folder, text))[0]["tracking"]["reference_modes"] == str(folder / "r.csv")
+    # with identify.channels, as many shape entries as channels named
+    refused(folder, text.replace("ambient}", "ambient, channels: [0, 1]}"),
+            "has shapes over 4 channels, identify.channels names 2")
+    # refused before any job: exit 2, no output folder
+    (folder / "r.csv").write_text("freq_hz,phi_0\n1.6,1\n")
+    assert modal.cli.main(["campaign", str(write(folder, text)), "--out", str(tmp_path / "out")]) == 2
+    assert not (tmp_path / "out").exists()
+
+
+def test_npy_records_without_identify_fs_are_refused_naming_it(simulated, tmp_path):
+    folder, index = simulated
+    for p in index["path"]:
+        np.save(folder / p.replace(".npz", ".npy"), modal.read_record(folder / p).acc)
+    index["path"] = index["path"].str.replace(".npz", ".npy")
+    index.to_csv(folder / "index.csv", index=False)
+    refused(folder, "records: {index: index.csv}\nidentify: {excitation: ambient}\n",
+            "c.yaml: identify.fs: 5 record(s) are .npy arrays, which hold no sampling rate (e.g. "
+            f"{index['path'][0]}): give their rate as identify.fs (Hz) in the campaign file")
+    config, _ = read_campaign(write(folder, "records: {index: index.csv}\nidentify: {excitation: ambient, fs: 50}\n"))
+    assert config["layout"] == {"n_channels": 4, "fs": 50.0, "units": [None] * 4}
+    # an .npz without its rate, in the sample: refused the same way; in a job, its reason names identify.fs,
+    # not the command line's --fs
+    np.savez(folder / "t.npz", acc=modal.read_record(folder / index["path"][0], fs=50).acc)
+    (folder / "i.csv").write_text("path,time\nt.npz,2025-01-01\n")
+    refused(folder, "records: {index: i.csv}\nidentify: {excitation: ambient}\n",
+            "c.yaml: identify.fs: record t.npz holds no sampling rate: give the rate of the campaign's records as "
+            "identify.fs (Hz) in the campaign file")
+    identify_chunk(pd.DataFrame({"record": ["t.npz"], "path": [str(folder / "t.npz")], "time": ["2025-01-01"]}),
+                   {"excitation": "ambient"}, tmp_path / "m.csv", tmp_path / "f.csv")
+    reason = pd.read_csv(tmp_path / "f.csv")["reason"][0]
+    assert "identify.fs (Hz) in the campaign file" in reason and "--fs" not in reason
+
+
+def test_chunks_write_iso_times_and_gather_reads_any_mix(simulated, tmp_path):
+    """A chunk of whole days and one with a fractional second: each writes
+    ISO 8601 (2025-01-01T00:00:00); gather reads them together, and chunks
+    written before (2025-01-01 beside 2025-05-01 00:00:00) too."""
+    folder, index = simulated
+    config, read = read_campaign(folder / "campaign.yaml")
+    records = read[["record", "path", "time"]].astype(str)
+    records.loc[3:, "time"] = ["2025-05-01 00:00:00.250000", "2025-05-02 10:00:00"]
+    identify_chunk(records.iloc[:3], config["identify"], tmp_path / "m0.csv", tmp_path / "f0.csv", config["layout"])
+    identify_chunk(records.iloc[3:], config["identify"], tmp_path / "m1.csv", tmp_path / "f1.csv", config["layout"])
+    assert set(pd.read_csv(tmp_path / "m0.csv")["time"]) == {"2025-01-01T00:00:00", "2025-01-02T00:00:00",
+                                                             "2025-01-03T00:00:00"}
+    assert set(pd.read_csv(tmp_path / "m1.csv")["time"]) == {"2025-05-01T00:00:00.250000", "2025-05-02T10:00:00"}
+    modes, _ = gather([tmp_path / "m0.csv", tmp_path / "m1.csv"], [tmp_path / "f0.csv", tmp_path / "f1.csv"])
+    assert sorted(set(modes["time"])) == [pd.Timestamp(t) for t in ("2025-01-01", "2025-01-02", "2025-01-03",
+                                                                    "2025-05-01 00:00:00.25", "2025-05-02 10:00")]
+    columns = ",".join(MODE_COLUMNS)
+    (tmp_path / "old0.csv").write_text(f"{columns},phi_0\na,2025-01-01,1,2.5,0.1,0.01,0.001,0.9,5,1.0\n")
+    (tmp_path / "old1.csv").write_text(f"{columns},phi_0\nb,2025-05-01 00:00:00,1,2.6,0.1,0.01,0.001,0.9,5,1.0\n")
+    modes, _ = gather([tmp_path / "old0.csv", tmp_path / "old1.csv"], [])
+    assert modes["time"].tolist() == [pd.Timestamp("2025-01-01"), pd.Timestamp("2025-05-01")]
