@@ -35,6 +35,7 @@ import json
 import math
 import os
 import re
+import warnings
 from datetime import datetime
 from pathlib import Path
 
@@ -400,8 +401,13 @@ def _index_times(index_path: Path, text: pd.Series, time_format: str | None) -> 
     a row of each."""
     form = time_format or "ISO8601"
     try:
-        times = pd.to_datetime(text, errors="coerce", format=form)
-    except ValueError:  # offsets that differ, or times with an offset and times without
+        with warnings.catch_warnings():  # pandas 2 warns of offsets that differ and gives objects
+            warnings.simplefilter("ignore", FutureWarning)
+            times = pd.to_datetime(text, errors="coerce", format=form)
+        mixed = times.dtype == object
+    except ValueError:  # pandas 3: offsets that differ, or times with an offset and times without
+        mixed = True
+    if mixed:
         parsed = [pd.to_datetime(t, errors="coerce", format=form) for t in text]
         aware = [t is not pd.NaT and t.tzinfo is not None for t in parsed]
         naive = [t is not pd.NaT and t.tzinfo is None for t in parsed]
