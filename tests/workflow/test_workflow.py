@@ -197,9 +197,10 @@ def test_lint_clean_apart_from_conda():
 
 def test_campaign_workflow_lint_clean_apart_from_conda(tmp_path):
     """The campaign's workflow (modal/campaign/Snakefile) meets the same bar,
-    on a campaign of one record (the index is read, the record not)."""
+    on a campaign of one record (the index is read, the record not; a .npy
+    record needs identify.fs, checked before any job)."""
     (tmp_path / "index.csv").write_text("path,time\na.npy,2025-01-01\n")
-    (tmp_path / "campaign.yaml").write_text("records: {index: index.csv}\nidentify: {excitation: ambient}\n")
+    (tmp_path / "campaign.yaml").write_text("records: {index: index.csv}\nidentify: {excitation: ambient, fs: 50}\n")
     lints = _lints("--snakefile", str(modal.campaign.SNAKEFILE), "--config",
                    f"campaign={tmp_path / 'campaign.yaml'}", cwd=tmp_path)
     assert lints, "expected at least the conda lint"
