@@ -101,8 +101,10 @@ def _refuse(path, error) -> None:
     raise ValueError(f"{path}: {where}: {message}")
 
 
-def read_campaign(path) -> tuple[dict, pd.DataFrame]:
-    """The campaign configuration at ``path`` and its index.
+def read_campaign(path, out=None) -> tuple[dict, pd.DataFrame]:
+    """The campaign configuration at ``path`` and its index; ``out``, the
+    campaign's output folder: a file a ``glob`` finds inside it is the
+    campaign's own (a ``failed.csv`` under ``data/**/*.csv``), never a record.
 
     Returns
     -------
@@ -164,7 +166,7 @@ def read_campaign(path) -> tuple[dict, pd.DataFrame]:
         except re.error as exc:
             raise ValueError(f"{path}: records.time_regex {records['time_regex']!r} is not a regular expression: "
                              f"{exc}") from None
-        index = _glob_index(base, records["glob"], records["time_format"], records.get("time_regex"))
+        index = _glob_index(base, records["glob"], records["time_format"], records.get("time_regex"), out)
     if index.empty:
         raise ValueError(f"{path}: records: no record found")
     repeated = index["path"].duplicated(keep=False)
@@ -422,10 +424,11 @@ def _index_times(index_path: Path, text: pd.Series, time_format: str | None) -> 
     return times
 
 
-def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | None) -> pd.DataFrame:
+def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | None, out=None) -> pd.DataFrame:
+    own = None if out is None else Path(out).resolve()
     rows = []
     for p in sorted(base.glob(pattern)):
-        if not p.is_file():
+        if not p.is_file() or (own is not None and p.resolve().is_relative_to(own)):
             continue
         text = p.stem
         if time_regex:

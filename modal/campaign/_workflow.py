@@ -260,7 +260,7 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     # still to be created is held as soon as it is) to the end of the run
     held = _hold(out, unless_unreadable=True) if out.is_dir() else None
     try:
-        config, index = read_campaign(campaign)
+        config, index = read_campaign(campaign, out=out)
         if importlib.util.find_spec("snakemake") is None:
             raise ImportError("snakemake is not installed")
         profile = None if profile is None else profile_folder(profile)

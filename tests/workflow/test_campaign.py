@@ -4,6 +4,7 @@ record), failures listed and the campaign going on, resuming, growing with
 the index, tracking and the configuration's refusals."""
 
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -268,3 +269,47 @@ def test_run_plans_and_refuses_before_any_job(tmp_path):
     with pytest.raises(ValueError, match="identify"):
         modal.campaign.run(tmp_path / "c.yaml", tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def _csv_records(folder, n=3, seconds=120.0, fs=50.0):
+    """``n`` records of the simulated frame as CSV files named by their time (one a day)."""
+    simulate_campaign(folder / "sim", n_records=n, every_hours=24, duration=seconds, fs=fs)
+    for k, path in enumerate(sorted((folder / "sim" / "records").glob("*.npz"))):
+        acc = modal.read_record(path).acc
+        target = folder / "data" / f"day{k}" / f"r_202501{k + 1:02d}-0000.csv"
+        target.parent.mkdir(parents=True, exist_ok=True)
+        pd.DataFrame(acc, columns=[f"a{c}" for c in range(acc.shape[1])]).to_csv(target, index=False)
+    (folder / "c.yaml").write_text("records: {glob: 'data/**/*.csv', time_format: '%Y%m%d-%H%M', "
+                                   "time_regex: '_(\\d{8}-\\d{4})'}\n"
+                                   f"identify: {{excitation: ambient, fs: {fs:g}, fmax: 10, max_order: 20}}\n")
+
+
+def test_a_glob_never_takes_the_campaigns_own_files_for_records(tmp_path):
+    """With ``glob: data/**/*.csv`` and the output folder inside data/, the
+    campaign's own CSV files (a chunk's failed.csv) are not records: read
+    with its output folder the index holds the three records; without it,
+    the stray file is refused as a record whose name holds no time. (The
+    second run of such a campaign refused it before, exit 2.)"""
+    _csv_records(tmp_path)
+    own = tmp_path / "data" / "results" / "chunks" / "c00000" / "failed.csv"
+    own.parent.mkdir(parents=True)
+    own.write_text("record,reason\n")
+    _, index = read_campaign(tmp_path / "c.yaml", out=tmp_path / "data" / "results")
+    assert [Path(p).name for p in index["path"]] == [f"r_202501{k:02d}-0000.csv" for k in (1, 2, 3)]
+    with pytest.raises(ValueError, match="failed.csv: records.time_regex .* does not match the name"):
+        read_campaign(tmp_path / "c.yaml")
+
+
+@pytest.mark.slow  # runs a campaign twice
+def test_a_campaign_whose_output_lies_in_its_glob_runs_again(tmp_path):
+    """The output folder inside the globbed tree: the second run (whose
+    workflow reads the campaign again, in the output folder) finds nothing
+    to do, where it refused its own failed.csv as a record (exit 2)."""
+    _csv_records(tmp_path)
+    out = tmp_path / "data" / "results"
+    messages = []
+    modal.campaign.run(tmp_path / "c.yaml", out, log=messages.append)
+    tracked = pd.read_csv(out / "tracked.csv")
+    assert tracked["record"].nunique() == 3
+    modal.campaign.run(tmp_path / "c.yaml", out, log=messages.append)
+    assert messages[-1].startswith("nothing to do"), messages
