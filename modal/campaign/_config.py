@@ -263,17 +263,6 @@ def _geometry(path: Path, given: dict | None, options, layout: dict | None, inde
             "shape_channels": used}
 
 
-def channel_units(record) -> list:
-    """The unit each channel of ``record`` declares (a UFF's or LVM's unit
-    label) in one spelling (:func:`modal.records.unit_key`: ``m/s^2`` and
-    ``m/s²`` are one unit), None where the file names none."""
-    from ..records import unit_key
-
-    units = record.channels["unit"] if "unit" in record.channels else [None] * record.acc.shape[1]
-    return [None if u is None or (isinstance(u, float) and u != u) or not str(u).strip() else unit_key(u)
-            for u in units]
-
-
 #: Records read to find the campaign's layout (:func:`_layout`): this many
 #: (all of a smaller campaign), evenly spread over its time.
 LAYOUT_SAMPLE = 9
@@ -281,7 +270,7 @@ LAYOUT_SAMPLE = 9
 
 def _layout(path, options, index) -> tuple[dict | None, str | None]:
     """The channel count, sampling rate and channel units (``n_channels``,
-    ``fs``, ``units``: :func:`channel_units`) the campaign's records agree
+    ``fs``, ``units``: the jobs' ``channel_units``) the campaign's records agree
     on, which every record must share (:func:`modal.campaign.identify_one`
     fails one that does not), and the first record in time that has them
     (whose channel names a geometry's sensors are matched to); ``(None,
@@ -303,8 +292,8 @@ def _layout(path, options, index) -> tuple[dict | None, str | None]:
     lands in ``failed.csv``)."""
     import numpy as np
 
-    from ..records import read_record
-    from ..records import GIVE_FS
+    from ..records import GIVE_FS, read_record
+    from ._jobs import channel_units
 
     n = len(index)
     spread = list(dict.fromkeys(np.linspace(0, n - 1, min(n, LAYOUT_SAMPLE)).round().astype(int).tolist()))
@@ -380,7 +369,7 @@ def _index_column_names(columns) -> dict:
     ``phi_<k>``), which the report joins them to: ``mode`` is kept as
     ``index_mode`` (``index_index_mode`` when the index has that too)."""
     from ._jobs import FAILED_COLUMNS, MODE_COLUMNS
-    from ._tracking import TRACKED_COLUMNS  # here: the jobs' channel_units does not import the tracking
+    from ._tracking import TRACKED_COLUMNS
 
     own = {"path", "time", *FAILED_COLUMNS, *MODE_COLUMNS, *TRACKED_COLUMNS}
     taken, renamed = set(map(str, columns)), {}

@@ -18,6 +18,17 @@ FAILED_COLUMNS = ["record", "reason"]
 CAMPAIGN_FS = "give the sampling rate: identify.fs (Hz) in the campaign file"
 
 
+def channel_units(record) -> list:
+    """The unit each channel of ``record`` declares (a UFF's or LVM's unit
+    label) in one spelling (:func:`modal.records.unit_key`: ``m/s^2`` and
+    ``m/s²`` are one unit), None where the file names none."""
+    from ..records import unit_key
+
+    units = record.channels["unit"] if "unit" in record.channels else [None] * record.acc.shape[1]
+    return [None if u is None or (isinstance(u, float) and u != u) or not str(u).strip() else unit_key(u)
+            for u in units]
+
+
 def identify_one(path, options, layout: dict | None = None, warned: list | None = None):
     """Modes of one record with ``modal identify``'s options
     (:class:`modal.IdentifyOptions`, or a mapping of them such as a campaign
@@ -35,7 +46,6 @@ def identify_one(path, options, layout: dict | None = None, warned: list | None 
     then fails."""
     from ..measured import identify_options, identify_record
     from ..records import read_record
-    from ._config import channel_units
 
     options = identify_options(options)
     record = read_record(path, options.fs)
