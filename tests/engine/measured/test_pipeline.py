@@ -62,15 +62,18 @@ def _run(call, *args, **kwargs):
     return out, [str(w.message) for w in caught]
 
 
-def _same_diagram(got, expected):
-    """identify_record's diagram and warnings equal those of modal.stabilisation called on ``expected`` data."""
+def _same_diagram(got, expected, ambient=True):
+    """identify_record's diagram and warnings equal those of modal.stabilisation called on ``expected`` data
+    (``ambient``: the record's modes also carry the harmonic check's columns)."""
     (result, dt), got_warnings = got
     reference, expected_warnings = expected
     assert got_warnings == expected_warnings
     pd.testing.assert_frame_equal(result.poles, reference.poles, rtol=1e-9)
-    # identify_record adds the spectral witness's columns (modal.spectral_support) to the diagram's modes.
+    # identify_record adds the spectral witness's columns (modal.spectral_support) to the diagram's modes, and of
+    # an ambient record the harmonic check's (modal.identification.envelope_variation)
     assert list(result.modes.columns) == [*reference.modes.columns, "sv_peak_hz", "sv_number", "sv_mac",
-                                          "spectral_support", "efdd_freq_hz", "efdd_damping"]
+                                          "spectral_support", "efdd_freq_hz", "efdd_damping",
+                                          *(["envelope_cv", "envelope_values"] if ambient else [])]
     # the uncertainty columns come from the record's segments, which identify_record cuts and a bare
     # stabilisation call does not get (tests/engine/measured/test_uncertainty.py covers them)
     same = [c for c in reference.modes.columns if c not in ("freq_std_hz", "damping_std", "flag")]
@@ -79,6 +82,7 @@ def _same_diagram(got, expected):
     for flag, selection in zip(result.modes["flag"], reference.modes["flag"]):
         added = [r for r in flag.split("; ") if r and r not in selection.split("; ")]
         assert flag.startswith(selection) and all(r == "no spectral peak" or r.startswith("same spectral peak as ")
+                                                  or (ambient and r.startswith("harmonic (envelope CV "))
                                                   for r in added), (flag, selection)
     np.testing.assert_allclose(result.singular_values, reference.singular_values, rtol=1e-10)
     return dt
@@ -139,7 +143,7 @@ def test_identify_record_free_decay_window():
     for rows, cols in ((50, 500), (80, 720)):
         got = _run(modal.identify_record, acc, 0.01, "free_decay", rows=rows)
         expected = _run(modal.stabilisation, modal.detrend(acc), 0.01, 60, rows, cols=cols, start=200)
-        assert _same_diagram(got, expected) == 0.01
+        assert _same_diagram(got, expected, ambient=False) == 0.01
     # 799 rows leave one column: H(0) is 1598 x 1, too small for any order
     with pytest.raises(ValueError, match=r"^max_order = 2 exceeds the smaller dimension of H\(0\) \(1598 x 1\)"):
         modal.identify_record(acc, 0.01, "free_decay", rows=799, max_order=2)
