@@ -9,7 +9,7 @@ its spectral witness, frequency domain decomposition (:func:`fdd`).
 """
 
 from ._cera import cera
-from ._envelope import ENVELOPE_COLUMNS, envelope_variation, steady
+from ._envelope import envelope_variation, steady
 from ._era import era
 from ._era_kernels import decompose
 from ._fdd import SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd, shared_peaks, spectral_support
@@ -20,7 +20,7 @@ from ._result import FLAGS, ModalResult, ModalWarning, normalise_complex_shapes,
 from ._stabilisation import QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, segment_std, stabilisation
 from ._tcm import tcm
 
-# ENVELOPE_COLUMNS, envelope_variation and steady (harmonics told by their steady amplitude), QUANTITIES (what a
+# envelope_variation and steady (harmonics told by their steady amplitude), QUANTITIES (what a
 # channel may measure), SAME_SHAPE, SHARED_PEAK_MAC, segment_std, normalise_shapes,
 # normalise_complex_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a

@@ -54,8 +54,8 @@ def envelope_variation(y, dt, freq_hz, damping, shapes) -> pd.DataFrame:
     """How steady each mode's amplitude is over the record.
 
     The record is projected on each mode's (real) shape, ``q = y phi``;
-    the bins of ``q``'s spectrum (``scipy.fft``) within ``f +- max(2 zeta f,``
-    :data:`BAND_RTOL` ``f)`` are taken to baseband and transformed back (the
+    the bins of ``q``'s spectrum (``scipy.fft``) within ``f +- max(``
+    :data:`BAND_WIDTHS` ``zeta f,`` :data:`BAND_RTOL` ``f)`` are taken to baseband and transformed back (the
     analytic signal of the band, :data:`ENVELOPE_OVERSAMPLING` samples per
     bin); its magnitude is the envelope.
 

@@ -568,15 +568,24 @@ def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:
     modes = result.modes
     variation = envelope_variation(y, dt, modes["freq_hz"].to_numpy(dtype=float),
                                    modes["damping"].to_numpy(dtype=float), result.shapes)
-    modes = pd.concat([modes.drop(columns=variation.columns, errors="ignore"), variation.set_axis(modes.index)],
-                      axis=1)
+    modes = _with_columns(modes, variation)
     if "flag" in modes:
-        harmonic = steady(variation)
-        modes["flag"] = pd.Series(["; ".join(filter(None, [f, f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""]))
-                                   for f, h, cv in zip(modes["flag"].fillna("").astype(str), harmonic,
-                                                       variation["envelope_cv"])],
-                                  index=modes.index, dtype=modes["flag"].dtype)
+        modes["flag"] = _with_reasons(modes["flag"], [f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""
+                                                      for h, cv in zip(steady(variation), variation["envelope_cv"])])
     return dataclasses.replace(result, modes=modes)
+
+
+def _with_columns(modes: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
+    """``modes`` with ``table``'s columns (one row per mode) last, any already
+    there replaced: in one step (a third of the time of one at a time)."""
+    return pd.concat([modes.drop(columns=table.columns, errors="ignore"), table.set_axis(modes.index)], axis=1)
+
+
+def _with_reasons(flags: pd.Series, *reasons) -> pd.Series:
+    """Each mode's ``flag`` with its ``reasons`` (lists of one reason per mode,
+    empty for none) joined after it by ``"; "``."""
+    return pd.Series(["; ".join(filter(None, parts)) for parts in zip(flags.fillna("").astype(str), *reasons)],
+                     index=flags.index, dtype=flags.dtype)
 
 
 def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> Stabilisation:
@@ -610,16 +619,12 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None) -> S
         pole = 2 * np.pi * freq_hz * (-zeta + 1j * np.sqrt(1 - zeta**2))
         shapes = np.asarray(shapes, dtype=complex) * pole[None, :] ** relative[:, None]
     support = spectral_support(spectrum, freq_hz, shapes, damping=damping)
-    # the columns in one step (a third of the time of one at a time); any already there are replaced
-    modes = pd.concat([modes.drop(columns=support.columns, errors="ignore"), support.set_axis(modes.index)], axis=1)
+    modes = _with_columns(modes, support)
     if "flag" in modes:
-        flags = modes["flag"].fillna("").astype(str)
-        lacking = ~support["spectral_support"].to_numpy(dtype=bool)
-        shadows = flags.str.startswith(SAME_SHAPE).to_numpy()
+        shadows = modes["flag"].fillna("").astype(str).str.startswith(SAME_SHAPE).to_numpy()
         shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows)
-        modes["flag"] = pd.Series(["; ".join(filter(None, [f, NO_SPECTRAL_PEAK if lack else "", second]))
-                                   for f, lack, second in zip(flags, lacking, shared)],
-                                  index=modes.index, dtype=modes["flag"].dtype)
+        lacking = [NO_SPECTRAL_PEAK if not found else "" for found in support["spectral_support"].to_numpy(bool)]
+        modes["flag"] = _with_reasons(modes["flag"], lacking, shared)
     return dataclasses.replace(result, modes=modes)
 
 
