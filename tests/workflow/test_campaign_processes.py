@@ -19,7 +19,7 @@ from modal.campaign import simulate_campaign
 from modal.cli import main as cli
 
 
-def small_campaign(folder, n_records=12, duration=300.0) -> Path:
+def small_campaign(folder, n_records=24, duration=300.0) -> Path:
     """A simulated campaign in chunks of three records; its YAML file."""
     simulate_campaign(folder, n_records=n_records, every_hours=12, duration=duration)
     (folder / "campaign.yaml").write_text((folder / "campaign.yaml").read_text().replace("chunk: 25", "chunk: 3"))
