@@ -14,13 +14,18 @@ command is ``snakemake ...``, ``python -m snakemake ...`` or ``python
 :func:`hold_folder` takes the lock of one run of ``modal campaign`` on its
 output folder (``flock`` on the folder itself, released by the kernel when
 the process ends however it ends), and :func:`descendants` finds the
-processes a run started, to stop them with it.
+processes a run started, to stop them with it. A Snakemake run working in a
+folder that no such lock holds was left by a run killed alone (``kill -9``
+of its ``modal campaign``): :func:`stop_leftover_run` stops it as Ctrl-C
+would, so that the same command resumes.
 """
 
 from __future__ import annotations
 
 import fcntl
 import os
+import signal
+import time
 from pathlib import Path
 
 
@@ -54,11 +59,9 @@ def live_snakemake_processes(root, exclude=()) -> dict[int, str]:
         try:
             argv = _argv(entry.name)
             cwd = Path(os.readlink(entry / "cwd")).resolve()
-            state = next((line for line in (entry / "status").read_text().splitlines()
-                          if line.startswith("State:")), "")
         except (OSError, ValueError):
             continue  # gone, or not ours to inspect
-        if is_snakemake_run(argv, cwd, root) and "zombie" not in state:
+        if is_snakemake_run(argv, cwd, root) and _alive(int(entry.name)):
             found[int(entry.name)] = " ".join(argv)
     return found
 
@@ -168,3 +171,53 @@ def clear_stale_locks(root) -> tuple[int, dict[int, str]]:
     for lock in held:
         lock.unlink(missing_ok=True)
     return len(held), {}
+
+
+def stop_leftover_run(root, grace: float) -> tuple[dict[int, str], dict[int, str]]:
+    """Stop the Snakemake run left working in ``root`` by a caller killed
+    alone, for the caller's next run to resume it.
+
+    Call it only while holding ``root`` (:func:`hold_folder`): a run holds
+    its folder until it ends however it ends, so a Snakemake run working
+    there with locks held (:func:`stale_locks`) belongs to no live caller.
+    Its processes (Snakemake and its jobs, and what they started) get SIGINT,
+    as from Ctrl-C: the jobs end, Snakemake marks their outputs incomplete
+    (redone by ``--rerun-incomplete``) and removes its locks. Waits up to
+    ``grace`` seconds for them to end.
+
+    Returns
+    -------
+    stopped, alive : dict
+        ``{pid: command line}`` of the run's processes that ended, and of
+        those still alive after ``grace`` (then the run is left alone).
+    """
+    held, live = stale_locks(root)
+    if not held or not live or 0 in live:
+        return {}, {}
+    processes = dict(live)
+    for pid in list(live):
+        for child in descendants(pid):
+            try:
+                processes.setdefault(child, " ".join(_argv(child)))
+            except OSError:
+                pass  # ended meanwhile
+    for pid in processes:
+        try:
+            os.kill(pid, signal.SIGINT)
+        except (ProcessLookupError, PermissionError):
+            pass  # ended meanwhile, or not ours: waited for below like the others
+    deadline = time.monotonic() + grace
+    alive = dict(processes)
+    while alive and time.monotonic() < deadline:
+        time.sleep(0.05)
+        alive = {pid: cmd for pid, cmd in alive.items() if _alive(pid)}
+    return {pid: cmd for pid, cmd in processes.items() if pid not in alive}, alive
+
+
+def _alive(pid: int) -> bool:
+    """Whether process ``pid`` exists and is no zombie."""
+    try:
+        status = Path(f"/proc/{pid}/status").read_text()
+    except OSError:
+        return False
+    return not any(line.startswith("State:") and "zombie" in line for line in status.splitlines())

@@ -20,7 +20,7 @@ import time
 from collections.abc import Callable
 from pathlib import Path
 
-from .._locks import FolderBusy, clear_stale_locks, descendants, hold_folder
+from .._locks import FolderBusy, clear_stale_locks, descendants, hold_folder, stop_leftover_run
 from ._config import campaign_inputs, read_campaign
 
 #: The workflow :func:`run` (and ``modal campaign``) runs.
@@ -95,6 +95,11 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM, signal.SIGHUP)
 #: Seconds a SIGINT is left to stop Snakemake and its jobs by itself (it may
 #: have reached them too) before it is passed on to them.
 SIGINT_GRACE = 3.0
+
+#: Seconds the workflow a killed run left in its folder (Snakemake and its
+#: jobs, :func:`modal._locks.stop_leftover_run`) is given to stop on SIGINT
+#: before the next run is refused instead of resuming.
+LEFTOVER_GRACE = 60.0
 
 
 def _in_terminal_foreground() -> bool:
@@ -193,8 +198,10 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
     Everything is checked before any job runs: the campaign file
     (:func:`modal.campaign.read_campaign`), the output folder (never one of
     the inputs, never holding one), the profile and Snakemake's presence.
-    Locks left by a killed run in ``out`` are cleared (a live run there is
-    refused). Then the campaign's workflow runs in ``out``; a second call
+    Locks left by a killed run in ``out`` are cleared, and a workflow it
+    left running there (``kill -9`` of this process alone) is stopped as by
+    Ctrl-C (:func:`modal._locks.stop_leftover_run`); a live run there is
+    refused. Then the campaign's workflow runs in ``out``; a second call
     with the same campaign resumes, and records added to the index add only
     their jobs (docs: Monitoring campaigns).
 
@@ -233,7 +240,9 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
         The campaign file is refused (the message names the key and the
         fix), ``cores`` is not a positive integer, ``profile`` is neither a
         folder nor a shipped profile's name, or another run is active in ``out`` (its process named:
-        a run holds ``out`` from before it reads the campaign until it ends);
+        a run holds ``out`` from before it reads the campaign until it ends),
+        or the workflow a killed run left there did not stop within
+        :data:`LEFTOVER_GRACE` seconds;
         :class:`modal.measured.OutputError` (a ``ValueError``) when ``out``
         is not a folder, cannot be created, or is, holds or lies inside one
         of the campaign's inputs (the campaign file, the index, the
@@ -273,6 +282,16 @@ def run(campaign, out, cores: int = 1, profile=None, dry_run: bool = False, *, c
             raise OutputError(f"out: cannot create {out}: {exc.strerror or exc}") from None
         if held is None:
             held = _hold(out)
+        if not dry_run:  # a workflow left running by a run killed alone: stopped, to be resumed
+            stopped, alive = stop_leftover_run(out, LEFTOVER_GRACE)
+            if alive:
+                listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(alive.items()))
+                raise ValueError(f"out: the workflow a killed run left in {out} did not stop within "
+                                 f"{LEFTOVER_GRACE:g} s of SIGINT ({listed}): stop it (kill -9 <pid>), then run "
+                                 "again to resume")
+            if stopped:
+                log(f"stopped the workflow a killed run left running in {out} (pid "
+                    f"{', '.join(map(str, sorted(stopped)))}); resuming")
         cleared, live = clear_stale_locks(out)
         if live:
             listed = "; ".join(f"pid {pid}: {cmd[:120]}" for pid, cmd in sorted(live.items()))

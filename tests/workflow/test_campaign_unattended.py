@@ -15,7 +15,9 @@ import pytest
 
 import modal
 import modal.campaign
+import modal._locks
 from modal._hashes import content_hashes
+from modal._locks import live_snakemake_processes
 from modal.campaign import simulate_campaign
 from modal.cli import main as cli
 
@@ -134,19 +136,23 @@ def test_an_output_folder_over_the_inputs_is_refused(tmp_path, capsys):
 
 
 @pytest.mark.slow  # runs a campaign
-def test_a_live_run_in_the_folder_is_refused_with_its_pid(tmp_path):
+def test_a_left_run_that_does_not_stop_is_refused_with_its_pid(tmp_path, monkeypatch):
     folder = tmp_path / "campaign"
     simulate_campaign(folder, n_records=2, duration=60.0)
     out = tmp_path / "out"
     (out / ".snakemake" / "locks").mkdir(parents=True)
     (out / ".snakemake" / "locks" / "0.input.lock").write_text("")
-    fake = tmp_path / "snakemake"  # a Snakemake left running there by a caller killed alone
-    fake.write_text(f"#!{sys.executable}\nimport time\ntime.sleep(60)\n")
+    fake = tmp_path / "snakemake"  # a Snakemake left running there by a caller killed alone, deaf to Ctrl-C
+    fake.write_text(f"#!{sys.executable}\nimport signal, time\nsignal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+                    "time.sleep(60)\n")
     fake.chmod(0o755)
     other = subprocess.Popen([str(fake), "--directory", str(out)], cwd=out)
+    monkeypatch.setattr(modal.campaign._workflow, "LEFTOVER_GRACE", 0.5)
     try:
-        with pytest.raises(ValueError, match=f"a campaign run is active in .* \\(pid {other.pid}: "):
+        time.sleep(0.3)
+        with pytest.raises(ValueError, match=f"did not stop within 0.5 s of SIGINT \\(pid {other.pid}: "):
             modal.campaign.run(folder / "campaign.yaml", out)
+        assert other.poll() is None
     finally:
         other.kill()
         other.wait()
@@ -156,7 +162,12 @@ def test_a_live_run_in_the_folder_is_refused_with_its_pid(tmp_path):
 
 
 @pytest.mark.slow
-def test_the_same_command_resumes_after_kill_9_with_a_clean_runs_results(tmp_path):
+@pytest.mark.parametrize("alone", [False, True], ids=["group", "command alone"])
+def test_the_same_command_resumes_after_kill_9_with_a_clean_runs_results(tmp_path, alone):
+    """``kill -9`` of the run's process group (Snakemake and its jobs die
+    with it, their locks left behind), or of ``modal campaign`` alone (its
+    workflow runs on, to be stopped by the rerun): the same command resumes
+    at once, to a clean run's results."""
     folder = tmp_path / "campaign"
     simulate_campaign(folder, n_records=12, every_hours=12, duration=300.0)
     (folder / "campaign.yaml").write_text((folder / "campaign.yaml").read_text().replace("chunk: 25", "chunk: 3"))
@@ -167,11 +178,17 @@ def test_the_same_command_resumes_after_kill_9_with_a_clean_runs_results(tmp_pat
     deadline = time.monotonic() + 120
     while not list((killed / "chunks").glob("*/modes.csv")) and time.monotonic() < deadline:
         time.sleep(0.05)
-    os.killpg(run.pid, signal.SIGKILL)  # the scheduler and its jobs, at once
+    if alone:
+        os.kill(run.pid, signal.SIGKILL)
+    else:
+        os.killpg(run.pid, signal.SIGKILL)  # the scheduler and its jobs, at once
     run.wait()
     assert list((killed / ".snakemake" / "locks").glob("*.lock")), "the kill left no lock: nothing was tested"
+    left = live_snakemake_processes(killed)
+    assert bool(left) == alone, left
     assert not (killed / "tracked.csv").exists()
     assert cli(command[3:]) == 0  # the same command
+    assert not any(modal._locks._alive(pid) for pid in left)
     assert cli(["campaign", str(folder / "campaign.yaml"), "--out", str(clean), "--cores", "2"]) == 0
     for name in ("tracked.csv", "modes.csv", "failed.csv", "references.csv"):
         assert (killed / name).read_bytes() == (clean / name).read_bytes(), name

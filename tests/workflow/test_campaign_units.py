@@ -4,6 +4,7 @@ tests of the mutation run of ``benchmarks/mutation_campaign.py``."""
 import hashlib
 import json
 import os
+import signal
 import subprocess
 import sys
 import time
@@ -15,7 +16,7 @@ import pytest
 
 import modal
 from modal._hashes import content_hashes, file_hash
-from modal._locks import clear_stale_locks, live_snakemake_processes, stale_locks
+from modal._locks import clear_stale_locks, descendants, live_snakemake_processes, stale_locks, stop_leftover_run
 from modal.campaign import campaign_inputs, chunks, gather, identify_chunk, identify_one, read_campaign
 from modal.campaign._jobs import MODE_COLUMNS, _reason, shape_matrix
 from modal.measured import overlapping_input as _overlapping_input
@@ -782,6 +783,65 @@ def test_live_snakemake_processes_are_those_working_here(tmp_path):
         for p in (ours, other, away):
             p.kill()
             p.wait()
+
+
+def leftover_snakemake(folder, cwd, ignore_sigint=False) -> subprocess.Popen:
+    """A Snakemake left running by a caller killed alone (``python
+    .../snakemake``, working in ``cwd``), with a job of its own that works
+    elsewhere; ``ignore_sigint``: one that Ctrl-C does not stop."""
+    script = Path(folder) / "left" / "snakemake"
+    script.parent.mkdir(exist_ok=True)
+    script.write_text(f"#!{sys.executable}\nimport signal, subprocess, sys, time\n"
+                      "job = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)'], cwd='/')\n"
+                      + ("signal.signal(signal.SIGINT, signal.SIG_IGN)\n" if ignore_sigint else "")
+                      + "time.sleep(60)\n")
+    script.chmod(0o755)
+    return subprocess.Popen([str(script), "--cores", "1"], cwd=cwd)
+
+
+def test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_else(tmp_path):
+    here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
+    here.mkdir()
+    elsewhere.mkdir()
+    left = leftover_snakemake(tmp_path, here)
+    others = [sleeper(here, "snakemake"), fake_snakemake(tmp_path, elsewhere)]  # no run here
+    try:
+        wait_until(lambda: len(descendants(left.pid)) == 1)
+        job = descendants(left.pid)[0]
+        # no lock held: no run is interrupted (a dry run takes none)
+        assert stop_leftover_run(here, grace=5.0) == ({}, {})
+        assert left.poll() is None
+        (here / ".snakemake" / "locks").mkdir(parents=True)
+        (here / ".snakemake" / "locks" / "0.input.lock").write_text("")
+        stopped, alive = stop_leftover_run(here, grace=20.0)
+        assert set(stopped) == {left.pid, job} and alive == {}
+        assert left.wait(timeout=5) == -signal.SIGINT and not modal._locks._alive(job)
+        assert [p.poll() for p in others] == [None, None]  # not signalled
+    finally:
+        for p in (left, *others):
+            p.kill()
+            p.wait()
+
+
+def test_a_left_run_that_does_not_stop_on_sigint_is_returned_alive(tmp_path):
+    (tmp_path / "here" / ".snakemake" / "locks").mkdir(parents=True)
+    (tmp_path / "here" / ".snakemake" / "locks" / "0.input.lock").write_text("")
+    stubborn = leftover_snakemake(tmp_path, tmp_path / "here", ignore_sigint=True)
+    try:
+        wait_until(lambda: len(descendants(stubborn.pid)) == 1)
+        job = descendants(stubborn.pid)[0]
+        stopped, alive = stop_leftover_run(tmp_path / "here", grace=0.5)
+        assert set(stopped) == {job} and set(alive) == {stubborn.pid} and stubborn.poll() is None
+    finally:
+        stubborn.kill()
+        stubborn.wait()
+
+
+def wait_until(condition, seconds=20.0):
+    deadline = time.monotonic() + seconds
+    while not condition():
+        assert time.monotonic() < deadline, "timed out"
+        time.sleep(0.02)
 
 
 def test_a_command_line_that_is_not_utf8_is_read(tmp_path):
