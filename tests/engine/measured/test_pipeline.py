@@ -244,6 +244,41 @@ def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
     assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
 
 
+def test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay():
+    """A free decay at 12.8 kHz, three channels, of 182, 515 and 2270 Hz
+    (damped 0.3, 0.4, 0.6 %: the last lasts some 150 samples, a Welch segment
+    of the 1.5 s record holds 2048). Welch's first Hann segment starts at the
+    impact and tapers the 2270 Hz mode away, so the record's own spectrum
+    has no peak for it; the spectrum with its first segment centred on the
+    impact has, and the mode is trusted. The slow modes keep the peaks of the
+    record's own spectrum, and the noise mode the selection also finds
+    (6220 Hz) has a peak in neither."""
+    fs, n, start = 12800.0, 19200, 640
+    freq_hz, zeta = np.array([182.0, 515.0, 2270.0]), np.array([0.003, 0.004, 0.006])
+    shapes = np.array([[1.0, 0.9, -0.7], [0.8, -0.4, 0.9], [0.5, -1.0, 0.6]])
+    t = np.arange(n - start) / fs
+    omega = 2 * np.pi * freq_hz
+    q = np.exp(-zeta * omega * t[:, None]) * np.cos(omega * np.sqrt(1 - zeta**2) * t[:, None])
+    y = np.zeros((n, 3))
+    y[start:] = q * np.array([1.0, 0.5, 0.2]) @ shapes.T
+    y += 0.005 * np.random.default_rng(3).standard_normal(y.shape)
+    details = {}
+    result, dt = modal.identify_record(y, 1 / fs, "free_decay", details=details)
+    modes = result.modes
+    nearest = [int(np.argmin(np.abs(modes["freq_hz"].to_numpy() - f))) for f in freq_hz]
+    np.testing.assert_allclose(modes["freq_hz"].to_numpy()[nearest], freq_hz, rtol=1e-3)
+    assert list(modes["flag"].iloc[nearest]) == ["", "", ""]
+    assert modes["spectral_support"].iloc[nearest].all()
+    plain = modal.spectral_support(details["spectrum"], modes["freq_hz"].iloc[nearest[:2]],
+                                   result.complex_shapes[:, nearest[:2]], damping=modes["damping"].iloc[nearest[:2]])
+    assert not modal.spectral_support(details["spectrum"], modes["freq_hz"].iloc[nearest[2:]],
+                                      result.complex_shapes[:, nearest[2:]],
+                                      damping=modes["damping"].iloc[nearest[2:]])["spectral_support"].any()
+    np.testing.assert_array_equal(modes["sv_peak_hz"].iloc[nearest[:2]].to_numpy(), plain["sv_peak_hz"].to_numpy())
+    others = modes.drop(index=modes.index[nearest])
+    assert len(others) and others["flag"].str.contains("no spectral peak").all()  # a noise mode finds no peak either
+
+
 def test_channels_of_one_quantity_a_hundred_fold_apart_draw_a_warning():
     """A channel in other units (x 1000) among channels of the same quantity
     is named with the weakest; levels within 100-fold, or apart only across
