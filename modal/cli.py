@@ -306,7 +306,7 @@ def _identify(args) -> int:
         return fail(EXIT_BAD_FILE, f"cannot read the record: {exc}")
     n_samples, n_channels = record.acc.shape
     log(f"read {args.path}: {n_samples} samples x {n_channels} channels at {record.fs:.6g} Hz")
-    problems = options.record_problems(n_channels, record.fs)
+    problems = options.record_problems(n_channels, record.fs, n_samples)
     if problems:
         return fail(EXIT_BAD_OPTIONS, f"bad options for {args.path}: {'; '.join(problems)}")
     written, code = _written(args, lambda: modal.write_identification(

@@ -285,7 +285,9 @@ def _layout(path, options, index) -> tuple[dict | None, str | None]:
     which record gave them: the chunks' jobs depend on the values alone.
 
     Options no record of that layout can take (fmax above its Nyquist
-    frequency, a channel it lacks: :meth:`IdentifyOptions.record_problems`)
+    frequency, a channel it lacks: :meth:`IdentifyOptions.record_problems`;
+    rows whose lags the longest record read cannot hold:
+    :meth:`IdentifyOptions.length_problems`)
     would fail every record alike: refused here, before any job, as is a
     record whose file holds no sampling rate when ``identify.fs`` is not
     given. A record that cannot be read otherwise is left to its job (it
@@ -314,13 +316,18 @@ def _layout(path, options, index) -> tuple[dict | None, str | None]:
             continue
         read += 1
         key = (int(record.acc.shape[1]), float(f"{record.fs:.9g}"), tuple(channel_units(record)))
-        found.setdefault(key, []).append((int(k), name, float(record.fs)))
+        found.setdefault(key, []).append((int(k), name, float(record.fs), int(record.acc.shape[0])))
     if not found:
         return None, None
-    key = max(found, key=lambda key: (len(found[key]), -min(k for k, _, _ in found[key])))
-    _, name, fs = min(found[key])
+    key = max(found, key=lambda key: (len(found[key]), -min(k for k, *_ in found[key])))
+    _, name, fs, _ = min(found[key])
     layout = {"n_channels": key[0], "fs": fs, "units": list(key[2])}
     problems = options.record_problems(layout["n_channels"], fs)
+    if not problems:  # the longest record read: a shorter one alone fails in its job
+        _, longest, _, n_samples = max(found[key], key=lambda read: read[3])
+        used = layout["n_channels"] if options.channels is None else len(options.channels)
+        problems = [problem + ("" if longest == name else f" (the longest record read: {longest})")
+                    for problem in options.length_problems(n_samples, 1 / fs, used)]
     if problems:
         agreeing = len(found[key])
         raise ValueError(f"{path}: identify.{problems[0]} (the campaign's records: {layout['n_channels']} "

@@ -406,7 +406,7 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
 
 
-def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shadows=None) -> list[str]:
+def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shadows=None, doubtful=None) -> list[str]:
     """Which modes are a second estimate of one resonance: ``"same spectral
     peak as 2.47 Hz (MAC 0.999)"``, or empty.
 
@@ -415,7 +415,11 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shado
     whose shapes have a MAC of at least ``mac_min`` are one peak of one
     shape in the spectrum: the channels and the spectrum see one mode, so
     the one farther from the peak (as far: the one with fewer poles, then
-    the higher frequency) is the other's second estimate. Two modes of one
+    the higher frequency) is the other's second estimate, unless that one
+    is doubtful already and it is not: a trusted estimate keeps the peak
+    over one flagged for another reason (its implausible damping, say),
+    whatever their distances (which, within the spectrum's resolution, say
+    little), so that the resonance keeps a trusted row. Two modes of one
     peak with shapes of their own (close modes, the first and second
     singular values' peaks at one frequency) stay two.
 
@@ -434,6 +438,9 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shado
     shadows : array_like of bool, shape (n_modes,), optional
         Modes already judged another's shadow (the selection's ``same shape
         as ...``): that pair is decided, so they take no part here.
+    doubtful : array_like of bool, shape (n_modes,), optional
+        Modes flagged for another reason (the selection's other flags): of
+        two on one peak, the one that is not keeps it.
 
     Returns
     -------
@@ -445,9 +452,10 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shado
     number = support["sv_number"].to_numpy()
     alike = auto_mac(shapes)
     taking_part = np.ones(len(support), dtype=bool) if shadows is None else ~np.asarray(shadows, dtype=bool)
+    trusted = np.ones(len(support), dtype=bool) if doubtful is None else ~np.asarray(doubtful, dtype=bool)
 
-    def rank(j):  # nearer the peak first, then more poles, then the lower frequency
-        return -abs(freq_hz[j] - peak[j]), n_poles[j], -j
+    def rank(j):  # trusted first, then nearer the peak, then more poles, then the lower frequency
+        return bool(trusted[j]), -abs(freq_hz[j] - peak[j]), n_poles[j], -j
 
     reasons = []
     for k in range(len(support)):

@@ -212,12 +212,14 @@ class IdentifyOptions:
                 for name in ("fmax", "highpass_hz") if getattr(self, name) is not None
                 and getattr(self, name) >= nyquist]
 
-    def record_problems(self, n_channels: int, fs: float) -> list[str]:
+    def record_problems(self, n_channels: int, fs: float, n_samples: int | None = None) -> list[str]:
         """What makes these options impossible on a record of ``n_channels``
         channels sampled at ``fs`` Hz (empty when none): a channel or
         reference the record lacks, a quantity list of another length,
-        ``fmax`` or ``highpass_hz`` at or above the Nyquist frequency. Each
-        message starts with the option's name."""
+        ``fmax`` or ``highpass_hz`` at or above the Nyquist frequency, and
+        with ``n_samples`` (the record's length) rows whose lags it cannot
+        hold (:meth:`length_problems`). Each message starts with the
+        option's name."""
         problems = []
         for name in ("channels", "refs"):
             beyond = [c for c in getattr(self, name) or () if c >= n_channels]
@@ -226,7 +228,59 @@ class IdentifyOptions:
         used = len(self.channels) if self.channels is not None else n_channels
         if self.quantities is not None and len(self.quantities) != used:
             problems.append(f"quantities names {len(self.quantities)} channels, the identification uses {used}")
-        return problems + self._rate_problems(fs)
+        problems += self._rate_problems(fs)
+        if n_samples is not None and not problems:
+            problems += self.length_problems(n_samples, 1 / fs, used)
+        return problems
+
+    def fixed_rows(self, n_channels: int) -> int | None:
+        """The block rows when the options fix them: ``rows``, or with
+        ``fmax`` the least ``max(60, 2 max_order / channels)`` of the
+        ``n_channels`` used; None when the record chooses them."""
+        if self.rows is not None:
+            return self.rows
+        if self.fmax is None:
+            return None
+        return max(60, math.ceil(2 * self.max_order / n_channels))
+
+    def decimation(self, dt: float) -> int:
+        """The decimation factor ``floor(1 / (2.5 fmax dt))`` of a record
+        sampled every ``dt`` s that keeps ``fmax`` inside the anti-aliasing
+        filter's pass band (1: none, also without ``fmax``)."""
+        factor = 1 if self.fmax is None else int(1 / (dt * 2.5 * self.fmax))
+        return factor if factor >= 2 else 1
+
+    def length_problems(self, n_samples: int, dt: float, n_channels: int) -> list[str]:
+        """What makes these options impossible on an ambient record of
+        ``n_samples`` samples every ``dt`` s, ``n_channels`` of them used:
+        its correlations' ``2 rows + 1`` lags must fit in half the record
+        as identified (decimated for ``fmax``), which takes ``2 (2 rows +
+        1)`` samples. Empty for a free decay and where the record chooses the
+        rows (no ``fmax``, no ``rows``). Each message names the option to
+        change, with the bound this record allows."""
+        rows = self.fixed_rows(n_channels)
+        if self.excitation != "ambient" or rows is None:
+            return []
+        factor, lags = self.decimation(dt), 2 * rows + 1
+        kept = n_samples // factor
+        if kept >= 2 * lags:
+            return []
+        most = (kept // 2 - 1) // 2  # the most rows the record as identified takes
+        # fewer rows help if they still hold max_order (rows x channels of H(0))
+        fewer = f"rows = {most} at the most" if most * n_channels >= self.max_order else None
+        if factor == 1:
+            given = f"rows = {rows}" if self.rows is not None else f"fmax = {self.fmax:g} Hz with {rows} rows"
+            return [f"{given} needs {lags} lags, more than half the {n_samples}-sample record: give "
+                    + (f"{fewer} or " if fewer else "") + "a longer record"]
+        most_factor = n_samples // (2 * lags)  # floor(1 / (2.5 fmax dt)) <= most_factor: fmax above this bound
+        if most_factor >= 1:
+            fix = (f"fmax must be above {1 / (2.5 * dt * (most_factor + 1)):.4g} Hz for this record (or give "
+                   + (f"{fewer} or " if fewer else "") + "a longer record)")
+        else:
+            fix = "no fmax is enough: give " + (f"{fewer} or " if fewer else "") + \
+                "a longer record"
+        return [f"fmax = {self.fmax:g} Hz decimates the {n_samples}-sample record by {factor} to {kept} samples, "
+                f"fewer than the {2 * lags} the identification needs ({rows} rows: {lags} lags): {fix}"]
 
     def check_record(self, n_channels: int, fs: float) -> None:
         """Raise ``ValueError`` with the first of :meth:`record_problems`."""

@@ -447,14 +447,10 @@ def identify_record(
         chosen["channel_scales"] = {str(labels[c]): float(scales[c]) for c in np.flatnonzero(scales != 1)}
     n_channels = y.shape[1]
     min_rows = max(60, math.ceil(2 * max_order / n_channels))
+    for problem in options.length_problems(y.shape[0], dt, n_channels)[:1]:
+        raise ValueError(problem)
     if fmax is not None:
-        factor = int(1 / (dt * 2.5 * fmax))
-        needed = 2 * (2 * (min_rows if rows is None else rows) + 1)  # twice the lags of the rows
-        if excitation == "ambient" and factor >= 2 and y.shape[0] // factor < needed:
-            raise ValueError(
-                f"fmax = {fmax:g} Hz decimates the {y.shape[0]}-sample record by {factor} to "
-                f"{y.shape[0] // factor} samples, fewer than the {needed} the identification needs: fmax must be "
-                f"at least {needed / (2.5 * y.shape[0] * dt):.3g} Hz for this record (or give a longer record)")
+        factor = options.decimation(dt)
         if factor >= 2:
             log(f"decimating by {factor}: {1 / dt:g} Hz -> {1 / (dt * factor):g} Hz")
             y, dt = decimate(y, dt, factor)
@@ -462,7 +458,7 @@ def identify_record(
         else:
             log(f"fmax = {fmax:g} Hz: no decimation ({1 / dt:g} Hz is below 2 x 2.5 fmax); "
                 f"modes are selected below {fmax:g} Hz")
-        rows = min_rows if rows is None else rows
+        rows = options.fixed_rows(n_channels)
     elif rows is None:
         low = lowest_peak_hz(y, dt)
         chosen["lowest_peak_hz"] = low
@@ -619,7 +615,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     to an unsupported mode's reasons, and ``same spectral peak as ...`` to a
     mode that shares its peak and shape with a stronger one
     (:func:`modal.identification.shared_peaks`; a pair of which the
-    selection named one ``same shape as ...`` is left as it decided).
+    selection named one ``same shape as ...`` is left as it decided, and a
+    mode the selection flagged otherwise yields the peak to a trusted one).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
     took them): the shapes are in the first channel's quantity, the spectrum
@@ -654,8 +651,10 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
             support[column] = values
     modes = _with_columns(modes, support)
     if "flag" in modes:
-        shadows = modes["flag"].fillna("").astype(str).str.startswith(SAME_SHAPE).to_numpy()
-        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows)
+        flags = modes["flag"].fillna("").astype(str)
+        shadows = flags.str.startswith(SAME_SHAPE).to_numpy()
+        shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows,
+                              doubtful=(flags != "").to_numpy() & ~shadows)
         lacking = [NO_SPECTRAL_PEAK if not found else "" for found in support["spectral_support"].to_numpy(bool)]
         modes["flag"] = _with_reasons(modes["flag"], lacking, shared)
     return dataclasses.replace(result, modes=modes)

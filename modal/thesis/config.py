@@ -616,7 +616,8 @@ def measured_problems(key: str, spec: Mapping) -> list[str]:
         options = IdentifyOptions.from_mapping(spec, other=["path"])
     except ValueError as exc:
         return [f"{key}.{exc}"]
-    return [f"{key}.{problem}" for problem in options.record_problems(record.acc.shape[1], record.fs)]
+    return [f"{key}.{problem}" for problem in options.record_problems(record.acc.shape[1], record.fs,
+                                                                        record.acc.shape[0])]
 
 
 def setups_problems(key: str, spec: Mapping) -> list[str]:
@@ -647,8 +648,8 @@ def setups_problems(key: str, spec: Mapping) -> list[str]:
         except ValueError as exc:
             problems.append(f"{key}.setups: {exc}")
     for setup in setups if not problems else []:
-        problems += [f"{key}.setups ({setup.name}): {p}" for p in options.record_problems(setup.record.acc.shape[1],
-                                                                                          setup.record.fs)]
+        problems += [f"{key}.setups ({setup.name}): {p}" for p in options.record_problems(
+            setup.record.acc.shape[1], setup.record.fs, setup.record.acc.shape[0])]
     return problems
 
 

@@ -157,6 +157,19 @@ def test_campaign_file_refusals(tmp_path, capsys):
     refused(base + "channels: [0, 3]}\n", "identify.channels [3]: the record has channels 0 ... 2")
     refused(base + "fmax: 5, highpass_hz: 5}\n", "identify.highpass_hz = 5 Hz must be below fmax = 5 Hz")
     refused(base + "rows: 30.0}\n", "identify.rows must be an integer, got 30.0")
+    # rows whose lags the records cannot hold (the longest read decides: a shorter one fails alone in its job)
+    refused(base + "rows: 600}\n", "identify.rows = 600 needs 1201 lags, more than half the 2000-sample record: "
+                                 "give rows = 499 at the most or a longer record (the campaign's records: 3 channels")
+    refused(base + "fmax: 0.5}\n", "identify.fmax = 0.5 Hz decimates the 2000-sample record by 16 to 125 samples, "
+                                 "fewer than the 242 the identification needs (60 rows: 121 lags): fmax must be above "
+                                 "0.8889 Hz for this record (or give rows = 30 at the most or a longer record)")
+    modal.save_record_npz(tmp_path / "c.npz", np.random.default_rng(1).standard_normal((4000, 3)), 0.05)
+    (tmp_path / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\nb.npz,2025-01-02\nc.npz,2025-01-03\n")
+    refused(base + "rows: 1000}\n", "identify.rows = 1000 needs 2001 lags, more than half the 4000-sample record: "
+                                  "give rows = 999 at the most or a longer record (the longest record read: c.npz)")
+    (tmp_path / "c.yaml").write_text(base + "rows: 600}\n")
+    assert read_campaign(tmp_path / "c.yaml")[0]["identify"]["rows"] == 600
+    (tmp_path / "i.csv").write_text("path,time\nbroken.npz,2025-01-01\nb.npz,2025-01-02\n")
     assert read_campaign_ok(tmp_path, base + "fmax: 9.9}\n")
     assert not (tmp_path / "out").exists()
 

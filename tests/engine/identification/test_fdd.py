@@ -696,6 +696,13 @@ def test_two_modes_of_one_shape_on_one_peak_are_one_mode():
     flags = shared_peaks([2.47, 2.40, 2.61], three, np.column_stack([a, b, b]), [29, 12, 23], 0.98)
     assert flags[0] == "" and flags[2].startswith("same spectral peak as 2.47")
     assert shared_peaks([], support_rows([]), np.empty((3, 0)), [], 0.98) == []
+    # a trusted mode keeps the peak over a nearer one flagged for another reason (both flagged would leave
+    # the resonance without a trusted row), whichever comes first; two doubtful ones: the nearer keeps it
+    for doubtful, kept in (([True, False], 1), ([False, True], 0), ([True, True], 0), ([False, False], 0)):
+        flags = shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.98, doubtful=doubtful)
+        assert flags[kept] == "" and flags[1 - kept].startswith(f"same spectral peak as {freq[kept]:g} Hz")
+        flags = shared_peaks(freq[::-1], one, np.column_stack([b, a]), poles[::-1], 0.98, doubtful=doubtful[::-1])
+        assert flags[1 - kept] == "" and flags[kept].startswith(f"same spectral peak as {freq[kept]:g} Hz")
     # a pair the selection decided (one named 'same shape as' the other) is left as it is, whichever it named
     for shadows in ([True, False], [False, True]):
         assert shared_peaks(freq, one, np.column_stack([a, b]), poles, 0.98, shadows) == ["", ""]

@@ -190,6 +190,54 @@ def test_what_holds_just_inside_the_bounds():
         "quantities names 1 channels, the identification uses 2"]
 
 
+def test_length_problems_need_twice_the_lags_in_the_record_as_identified():
+    """An ambient record holds ``2 rows + 1`` lags in half its samples after
+    the decimation ``floor(fs / (2.5 fmax))``: 121 lags for the 60 rows fmax
+    brings on 2 channels (max_order 60), so 242 samples; rows given decide
+    alone; 2 max_order / channels rows where more; a free decay, and rows the
+    record chooses (neither fmax nor rows), are not judged here. Each
+    message names the option, the samples and the bound the record allows."""
+    ambient = IdentifyOptions(excitation="ambient", fmax=10.0)  # at 100 Hz: decimated by 4
+    assert ambient.decimation(0.01) == 4 and ambient.fixed_rows(2) == 60
+    assert ambient.length_problems(968, 0.01, 2) == []  # 242 samples after decimation: just enough
+    assert ambient.length_problems(967, 0.01, 2) == [
+        "fmax = 10 Hz decimates the 967-sample record by 4 to 241 samples, fewer than the 242 the identification "
+        "needs (60 rows: 121 lags): fmax must be above 10 Hz for this record (or give rows = 59 at the most or a longer "
+        "record)"]
+    assert ambient.replace(fmax=10.01).length_problems(967, 0.01, 2) == []  # decimated by 3: 322 samples
+    # 2 max_order / channels rows where more than 60: 100 for max_order 100 on 2 channels (used, not recorded)
+    wide = ambient.replace(max_order=100)
+    assert wide.fixed_rows(2) == 100 and wide.fixed_rows(4) == 60
+    assert wide.length_problems(1608, 0.01, 2) == [] and wide.length_problems(1607, 0.01, 4) == []
+    assert wide.length_problems(1607, 0.01, 2)[0].startswith("fmax = 10 Hz decimates the 1607-sample record by 4 "
+                                                             "to 401 samples, fewer than the 402")
+    # rows given, no fmax: no decimation; the most rows that fit are named where they still hold max_order
+    rows = IdentifyOptions(excitation="ambient", rows=100, max_order=20)
+    assert rows.decimation(0.01) == 1 and rows.length_problems(402, 0.01, 2) == []
+    assert rows.length_problems(401, 0.01, 2) == [
+        "rows = 100 needs 201 lags, more than half the 401-sample record: give rows = 99 at the most or a longer "
+        "record"]
+    assert rows.replace(max_order=200).length_problems(401, 0.01, 2) == [
+        "rows = 100 needs 201 lags, more than half the 401-sample record: give a longer record"]
+    # no fmax helps a record too short even undecimated
+    assert IdentifyOptions(excitation="ambient", fmax=10.0, rows=100).length_problems(350, 0.01, 4) == [
+        "fmax = 10 Hz decimates the 350-sample record by 4 to 87 samples, fewer than the 402 the identification "
+        "needs (100 rows: 201 lags): no fmax is enough: give rows = 21 at the most or a "
+        "longer record"]
+    # fmax that does not decimate (below 2 x 2.5 fmax): the record as it is
+    assert IdentifyOptions(excitation="ambient", fmax=30.0).decimation(0.01) == 1
+    assert IdentifyOptions(excitation="ambient", fmax=30.0).length_problems(241, 0.01, 2)[0].startswith(
+        "fmax = 30 Hz with 60 rows needs 121 lags, more than half the 241-sample record")
+    assert IdentifyOptions(excitation="ambient").length_problems(10, 0.01, 2) == []
+    # record_problems with the record's length: the same, after the problems of channels and rates only
+    assert ambient.record_problems(2, 100.0, 967) == ambient.length_problems(967, 0.01, 2)
+    assert ambient.record_problems(2, 100.0) == [] and ambient.record_problems(2, 100.0, 968) == []
+    assert ambient.replace(channels=[0]).record_problems(2, 100.0, 967) == ambient.length_problems(967, 0.01, 1)
+    assert ambient.replace(channels=[2]).record_problems(2, 100.0, 967) == ["channels [2]: the record has channels "
+                                                                            "0 ... 1"]
+    assert IdentifyOptions(excitation="free_decay", rows=100, fmax=10.0).length_problems(10, 0.01, 2) == []
+
+
 def test_from_mapping_names_the_key():
     with pytest.raises(ValueError, match=r"c.yaml: identify.maxorder: not an option"):
         IdentifyOptions.from_mapping({"excitation": "ambient", "maxorder": 4}, where="c.yaml: identify")

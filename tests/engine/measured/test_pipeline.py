@@ -164,9 +164,10 @@ def test_identify_record_refusals_name_the_argument():
                     r"--max-order", result.no_mode_reason())
     # an fmax that decimates the record below what the lags need: the lowest fmax the record allows is named
     with pytest.raises(ValueError, match=r"^fmax = 0.5 Hz decimates the 1000-sample record by 80 to 12 samples, fewer "
-                                         r"than the 242 the identification needs: fmax must be at least 9.68 Hz"):
+                                         r"than the 242 the identification needs \(60 rows: 121 lags\): fmax must be "
+                                         r"above 8 Hz for this record \(or give a longer record\)$"):
         modal.identify_record(acc, 0.01, "ambient", fmax=0.5)
-    _run(modal.identify_record, acc, 0.01, "ambient", fmax=9.7, max_order=4)  # 250 samples: enough
+    _run(modal.identify_record, acc, 0.01, "ambient", fmax=8.01, max_order=4)  # 250 samples: enough
     # channels first (the reader's layout check, also in the API), and fs given twice, unalike
     with pytest.raises(ValueError, match=r"^acc of shape \(2, 1000\) reads as 2 samples of 1000 channels; .*acc\.T"):
         modal.identify_record(acc.T, 0.01, "ambient")
@@ -242,6 +243,13 @@ def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
     shadow = bare.assign(flag=list(modes["flag"]) + [f"same shape as {first} Hz (MAC 1.000)"])
     witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=shadow), details["spectrum"])
     assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
+    # the first mode flagged for another reason: the trusted copy keeps the peak, the resonance a trusted row
+    doubtful = bare.assign(flag=["damping 5.2 % implausible"] + list(modes["flag"].iloc[1:]) + [""])
+    witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=doubtful), details["spectrum"])
+    copied = f"{copy['freq_hz'].iloc[0]:.4g}"
+    assert witnessed.modes["flag"].iloc[3] == ""
+    assert witnessed.modes["flag"].iloc[0].startswith("damping 5.2 % implausible")
+    assert f"same spectral peak as {copied} Hz (MAC 1.000)" in witnessed.modes["flag"].iloc[0]
 
 
 def test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay():

@@ -174,7 +174,8 @@ def test_a_setup_that_cannot_be_identified_is_named_and_nothing_is_written(writt
     second = written["setups"][1]  # not clipped: no warning
     short = dataclasses.replace(second, name="setup_3",
                                 record=dataclasses.replace(second.record, acc=second.record.acc[:40]))
-    with pytest.raises(ValueError, match="^setup setup_3: rows = 60 needs 121 lags"):
+    with pytest.raises(ValueError, match="^setup setup_3: fmax = 25 Hz with 60 rows needs 121 lags, more than half "
+                                         "the 40-sample record"):
         write_setups([second, short], tmp_path / "out", "ambient", fmax=25, max_order=20)
     assert not (tmp_path / "out").exists()
 
