@@ -101,7 +101,9 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
                      UNATTENDED + "test_an_output_folder_over_the_inputs_is_refused"],
     "_locks.py": [UNITS + t for t in (
         "test_stale_locks_are_listed_and_cleared", "test_live_snakemake_processes_are_those_working_here",
-        "test_a_command_line_that_is_not_utf8_is_read", "test_the_caller_and_its_parent_are_not_a_run")] + [
+        "test_a_command_line_that_is_not_utf8_is_read", "test_the_caller_and_its_parent_are_not_a_run",
+        "test_a_left_run_that_does_not_stop_on_sigint_is_returned_alive",
+        "test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_else")] + [
         "tests/workflow/test_strict.py::test_stale_lock_is_cleared_and_live_run_is_reported"],
     "_tracking.py": [UNITS + "test_the_track_step_writes_every_table"] + [TRACKING + t for t in (
         "test_the_assignment_takes_the_larger_mac", "test_crossing_modes_give_two_references_with_their_own_shapes",
