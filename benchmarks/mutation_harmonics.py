@@ -89,23 +89,35 @@ machinery.mutants = mutants
 TRUST = "tests/engine/identification/test_selection_trust.py::"
 HARMONICS = "tests/engine/identification/test_harmonics.py::"
 MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
+NEW_ENVELOPE = [HARMONICS + t for t in (
+    "test_the_band_is_f_plus_minus_four_zeta_f_or_a_percent_of_f_its_edges_included",
+    "test_the_band_stops_at_bin_1_and_at_the_nyquist_bin",
+    "test_a_band_of_three_bins_is_judged_of_two_not_even_at_the_nyquist_bin",
+    "test_a_mode_the_record_does_not_hold_and_no_modes")]
+CHECK = HARMONICS + "test_the_harmonic_check_adds_its_columns_last_and_its_reason_after_the_others"
 machinery.TESTS = {  # the quickest first
     "_envelope.py": [HARMONICS + t for t in (
         "test_steady_needs_a_steady_envelope_over_enough_correlation_times",
         "test_a_band_too_narrow_to_judge_is_nan_and_bad_input_is_refused",
-        "test_a_random_mode_varies_a_harmonic_does_not",
-        "test_identify_record_flags_a_wandering_harmonic_and_no_mode")],
+        "test_a_random_mode_varies_a_harmonic_does_not")] + NEW_ENVELOPE + [
+        CHECK, HARMONICS + "test_identify_record_flags_a_wandering_harmonic_and_no_mode"],
     "_pipeline.py": [MUTANTS + t for t in (
         "test_lowest_peak_needs_six_db_of_prominence", "test_lowest_peak_in_a_spectrum_with_empty_bins",
         "test_lowest_peak_lies_above_three_bins", "test_lowest_peak_lies_above_ten_periods_per_record",
         "test_lowest_peak_weighs_every_channel_alike", "test_lowest_peak_welch_segments",
+        "test_lowest_peak_of_a_sine_in_noise_is_its_frequency_in_hz",
         "test_lowest_peak_of_short_and_silent_records", "test_settings_from_the_lowest_peak[3.0-10-lines3-1]",
         "test_settings_from_the_lowest_peak[0.4-10-lines5-4]", "test_settings_from_the_lowest_peak[0.75-10-lines2-2]",
-        "test_settings_from_the_lowest_peak[None-10-lines0-1]")] + [
+        "test_settings_from_the_lowest_peak[None-10-lines0-1]", "test_settings_from_the_lowest_peak[20.0-10-lines6-1]",
+        "test_a_free_decay_keeps_three_periods_and_sixty_rows[10-None]",
+        "test_a_free_decay_keeps_three_periods_and_sixty_rows[10-line0]")] + [
+        CHECK, HARMONICS + "test_the_log_names_every_harmonic_in_one_line",
         HARMONICS + "test_identify_record_flags_a_wandering_harmonic_and_no_mode"],
     "_stabilisation.py": [TRUST + t for t in (
-        "test_channel_levels_are_taken_in_the_highest_derivative", "test_a_mode_in_one_channel_of_several_is_flagged",
-        "test_damping_bounds_and_the_share_are_inclusive", "test_single_channel_is_judged_on_each_channels_own_level")],
+        "test_channel_levels_are_taken_in_the_highest_derivative",
+        "test_the_level_of_one_channel_or_of_one_quantity_is_its_rms_over_every_set",
+        "test_a_mode_in_one_channel_of_several_is_flagged", "test_damping_bounds_and_the_share_are_inclusive",
+        "test_single_channel_is_judged_on_each_channels_own_level")],
 }
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_harmonics_equivalent.txt"
 

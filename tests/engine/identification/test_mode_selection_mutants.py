@@ -2,6 +2,8 @@
 behaviour of the changed functions that no other test checked, found by a
 surviving mutant (named in the test's docstring)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -88,6 +90,18 @@ def test_lowest_peak_welch_segments(monkeypatch, n, nperseg):
     asked = fake_welch(monkeypatch, [bumps(40, {})], df=0.125)
     _pipeline.lowest_peak_hz(np.zeros((n, 1)), 0.01)
     assert asked == [nperseg]
+
+
+def test_lowest_peak_of_a_sine_in_noise_is_its_frequency_in_hz():
+    """A sine on bin 5 of Welch's 512-sample segments (4096 samples at
+    100 Hz: bins of 100 / 512 Hz) in white noise 100 times weaker: the
+    lowest peak is 5 x 100 / 512 = 0.9765625 Hz, at the rate dt gives (the
+    noise's own peaks lie higher; only bin 4, the sine's main lobe, is
+    lower and above three bins). The 64-sample sine below stands on
+    round-off alone, whose ripples make peaks too."""
+    t = 0.01 * np.arange(4096)
+    y = np.sin(2 * np.pi * 0.9765625 * t) + 0.01 * np.random.default_rng(4).standard_normal(len(t))
+    assert _pipeline.lowest_peak_hz(y[:, None], 0.01) == 0.9765625
 
 
 def test_lowest_peak_of_short_and_silent_records():
@@ -442,21 +456,28 @@ def ambient_record(fs=128, seconds=60, seed=22):
                 "(set --fmax and --rows to choose)"], 1),
     (0.4, 10, ["lowest spectral peak 0.4 Hz: 80 block rows span 2.5 s (1 period of it), decimated by 4 to 32 Hz "
                "(set --fmax and --rows to choose)"], 4),
+    (20.0, 10, ["lowest spectral peak 20 Hz: 10 block rows span 0.0781 s (1.6 periods of it) "
+                "(set --fmax and --rows to choose)"], 1),
 ])
 def test_settings_from_the_lowest_peak(monkeypatch, low, max_order, lines, dt_factor):
     """Without fmax and rows: rows span AUTO_PERIODS periods of the lowest
-    peak (at least 2 max_order / channels), the record decimated to about
-    AUTO_SAMPLES samples per period; the choice is logged."""
+    peak (at least 2 max_order / channels: at 20 Hz one period is 6.4 rows,
+    2 x 10 / 2 = 10 rows), the record decimated to about AUTO_SAMPLES
+    samples per period; the choice is logged and in the settings (the peak,
+    the decimation, the rows)."""
     monkeypatch.setattr(_pipeline, "lowest_peak_hz", lambda y, dt: low)
     acc, dt = ambient_record()
-    log = []
+    log, details = [], {}
     import warnings
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", modal.ModalWarning)
-        _, dt_used = modal.identify_record(acc, dt, "ambient", max_order=max_order, log=log.append)
+        _, dt_used = modal.identify_record(acc, dt, "ambient", max_order=max_order, log=log.append, details=details)
     assert dt_used == dt * dt_factor
     assert [line for line in log if line.startswith(("lowest spectral", "no spectral"))] == lines
+    settings = details["settings"]
+    assert (settings["lowest_peak_hz"], settings["decimation"]) == (low, dt_factor)
+    assert settings["rows"] == int(re.search(r"(\d+) block rows", lines[0]).group(1))
 
 
 @pytest.mark.parametrize("max_order, line", [

@@ -363,6 +363,20 @@ def test_channel_levels_are_taken_in_the_highest_derivative():
     np.testing.assert_allclose(plain, [3 / np.sqrt(2), 1 / np.sqrt(2)], rtol=2e-3)
 
 
+def test_the_level_of_one_channel_or_of_one_quantity_is_its_rms_over_every_set():
+    """One channel of a named quantity, or channels all of one: each one's
+    RMS over all data sets and samples (two sets of 3 and 4 times a unit
+    sine: sqrt(12.5 / 2))."""
+    from modal.identification._stabilisation import channel_levels
+
+    t = 0.01 * np.arange(1000)
+    sets = np.stack([3 * np.sin(2 * np.pi * t), 4 * np.sin(2 * np.pi * t)])[:, :, None]
+    assert channel_levels(sets, 0.01, np.array([2])) == pytest.approx([np.sqrt(12.5 / 2)], rel=1e-9)
+    both = np.concatenate([sets, 2 * sets], axis=2)
+    np.testing.assert_allclose(channel_levels(both, 0.01, np.array([1, 1])), np.array([1, 2]) * np.sqrt(12.5 / 2),
+                               rtol=1e-9)
+
+
 def spread_out(values_a, shapes_a=A, criteria=None, min_poles=8):
     """One mode whose poles (one per order) are joined across orders, with
     cluster_distance small so that its floors (0.005 in damping) do not
