@@ -103,7 +103,9 @@ TESTS = {  # by target: the fast tests that reach it, the quickest first
         "test_stale_locks_are_listed_and_cleared", "test_live_snakemake_processes_are_those_working_here",
         "test_a_command_line_that_is_not_utf8_is_read", "test_the_caller_and_its_parent_are_not_a_run",
         "test_a_left_run_that_does_not_stop_on_sigint_is_returned_alive",
-        "test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_else")] + [
+        "test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_else",
+        "test_without_proc_a_left_run_cannot_be_seen_and_nothing_is_signalled",
+        "test_a_process_is_alive_until_it_ends_a_zombie_or_reaped")] + [
         "tests/workflow/test_strict.py::test_stale_lock_is_cleared_and_live_run_is_reported"],
     "_tracking.py": [UNITS + "test_the_track_step_writes_every_table"] + [TRACKING + t for t in (
         "test_the_assignment_takes_the_larger_mac", "test_crossing_modes_give_two_references_with_their_own_shapes",

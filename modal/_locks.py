@@ -191,8 +191,8 @@ def stop_leftover_run(root, grace: float) -> tuple[dict[int, str], dict[int, str
         ``{pid: command line}`` of the run's processes that ended, and of
         those still alive after ``grace`` (then the run is left alone).
     """
-    held, live = stale_locks(root)
-    if not held or not live or 0 in live:
+    _, live = stale_locks(root)  # no lock held: no live run either
+    if not live or 0 in live:  # 0: no /proc, no process can be seen (nor signalled: 0 is this process's group)
         return {}, {}
     processes = dict(live)
     for pid in list(live):

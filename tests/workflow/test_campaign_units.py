@@ -815,6 +815,7 @@ def test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_e
         (here / ".snakemake" / "locks" / "0.input.lock").write_text("")
         stopped, alive = stop_leftover_run(here, grace=20.0)
         assert set(stopped) == {left.pid, job} and alive == {}
+        assert stopped[job] == f"{sys.executable} -c import time; time.sleep(60)"
         assert left.wait(timeout=5) == -signal.SIGINT and not modal._locks._alive(job)
         assert [p.poll() for p in others] == [None, None]  # not signalled
     finally:
@@ -835,6 +836,25 @@ def test_a_left_run_that_does_not_stop_on_sigint_is_returned_alive(tmp_path):
     finally:
         stubborn.kill()
         stubborn.wait()
+
+
+def test_without_proc_a_left_run_cannot_be_seen_and_nothing_is_signalled(tmp_path, monkeypatch):
+    (tmp_path / ".snakemake" / "locks").mkdir(parents=True)
+    (tmp_path / ".snakemake" / "locks" / "0.input.lock").write_text("")
+    real = Path.exists
+    monkeypatch.setattr(Path, "exists", lambda p: False if str(p) == "/proc/self" else real(p))
+    signalled = []
+    monkeypatch.setattr(os, "kill", lambda pid, signum: signalled.append(pid))  # pid 0 would be this group
+    assert stop_leftover_run(tmp_path, grace=1.0) == ({}, {}) and signalled == []
+
+
+def test_a_process_is_alive_until_it_ends_a_zombie_or_reaped():
+    assert modal._locks._alive(os.getpid())
+    child = subprocess.Popen([sys.executable, "-c", "pass"])
+    wait_until(lambda: not modal._locks._alive(child.pid))  # ended, not yet reaped: a zombie
+    assert Path(f"/proc/{child.pid}").exists()
+    child.wait()
+    assert not modal._locks._alive(child.pid)  # reaped: no /proc entry
 
 
 def wait_until(condition, seconds=20.0):
