@@ -241,7 +241,7 @@ class IdentifyOptions:
             return self.rows
         if self.fmax is None:
             return None
-        return max(60, math.ceil(2 * self.max_order / n_channels))
+        return least_rows(self.max_order, n_channels)
 
     def decimation(self, dt: float) -> int:
         """The decimation factor ``floor(1 / (2.5 fmax dt))`` of a record
@@ -267,18 +267,16 @@ class IdentifyOptions:
             return []
         most = (kept // 2 - 1) // 2  # the most rows the record as identified takes
         # fewer rows help if they still hold max_order (rows x channels of H(0))
-        fewer = f"rows = {most} at the most" if most * n_channels >= self.max_order else None
+        give = " or ".join(([f"rows = {most} at the most"] if most * n_channels >= self.max_order else [])
+                           + ["a longer record"])
         if factor == 1:
             given = f"rows = {rows}" if self.rows is not None else f"fmax = {self.fmax:g} Hz with {rows} rows"
-            return [f"{given} needs {lags} lags, more than half the {n_samples}-sample record: give "
-                    + (f"{fewer} or " if fewer else "") + "a longer record"]
+            return [f"{given} needs {lags} lags, more than half the {n_samples}-sample record: give {give}"]
         most_factor = n_samples // (2 * lags)  # floor(1 / (2.5 fmax dt)) <= most_factor: fmax above this bound
         if most_factor >= 1:
-            fix = (f"fmax must be above {1 / (2.5 * dt * (most_factor + 1)):.4g} Hz for this record (or give "
-                   + (f"{fewer} or " if fewer else "") + "a longer record)")
+            fix = f"fmax must be above {1 / (2.5 * dt * (most_factor + 1)):.4g} Hz for this record (or give {give})"
         else:
-            fix = "no fmax is enough: give " + (f"{fewer} or " if fewer else "") + \
-                "a longer record"
+            fix = f"no fmax is enough: give {give}"
         return [f"fmax = {self.fmax:g} Hz decimates the {n_samples}-sample record by {factor} to {kept} samples, "
                 f"fewer than the {2 * lags} the identification needs ({rows} rows: {lags} lags): {fix}"]
 
@@ -295,6 +293,13 @@ class IdentifyOptions:
         channels = list(range(n_channels)) if self.channels is None else list(self.channels)
         refs = None if self.refs is None else [channels.index(r) for r in self.refs]
         return channels, refs
+
+
+def least_rows(max_order: int, n_channels: int) -> int:
+    """The block rows an identification with ``fmax`` takes at the least:
+    60, or ``2 max_order / n_channels`` where more (so that ``H(0)``, of
+    ``rows x n_channels`` rows, holds twice the highest order)."""
+    return max(60, math.ceil(2 * max_order / n_channels))
 
 
 def identify_options(options=None, **keywords) -> IdentifyOptions:

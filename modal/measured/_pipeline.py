@@ -14,7 +14,7 @@ import pandas as pd
 from .._checks import positive_float, unit_scale
 from ..identification import ModalWarning, Stabilisation, StabilityCriteria, stabilisation
 from ..records import SPIKE_MAX_WIDTH, clipping_warnings, despiked, spike_samples, spike_warnings
-from ._options import IdentifyOptions, identify_options
+from ._options import IdentifyOptions, identify_options, least_rows
 
 #: Without ``fmax`` and ``rows``, the block rows span this many periods of the
 #: record's lowest spectral peak (a common guideline for SSI-cov asks at least
@@ -446,9 +446,10 @@ def identify_record(
             + ", ".join(f"channel {labels[c]} x {scales[c]:g}" for c in np.flatnonzero(scales != 1)))
         chosen["channel_scales"] = {str(labels[c]): float(scales[c]) for c in np.flatnonzero(scales != 1)}
     n_channels = y.shape[1]
-    min_rows = max(60, math.ceil(2 * max_order / n_channels))
-    for problem in options.length_problems(y.shape[0], dt, n_channels)[:1]:
-        raise ValueError(problem)
+    min_rows = least_rows(max_order, n_channels)
+    problems = options.length_problems(y.shape[0], dt, n_channels)
+    if problems:
+        raise ValueError(problems[0])
     if fmax is not None:
         factor = options.decimation(dt)
         if factor >= 2:
