@@ -95,11 +95,14 @@ def table_html(frame: pd.DataFrame, headings: dict | None = None, flagged=None, 
     return styler.to_html()
 
 
-def evidence(modes: pd.DataFrame, n_orders: int) -> list[str]:
+def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) -> list[str]:
     """One sentence per mode: why it is believed (or doubted), from its
     columns: poles at how many orders, the standard deviation of its
     frequency, its MPC, the singular-value peak near it and the MAC of its
-    shape with that peak's singular vector, and its flag."""
+    shape with that peak's singular vector, and its flag. Of a record of
+    one channel (``n_channels``) the MPC and the MAC are 1 by construction
+    and no evidence: left out."""
+    shaped = n_channels is None or n_channels > 1
     lines = []
     for row in modes.to_dict("records"):
         parts = [f"Mode {int(row['mode'])} at {row['freq_hz']:.4g} Hz"]
@@ -107,16 +110,17 @@ def evidence(modes: pd.DataFrame, n_orders: int) -> list[str]:
             parts.append(f"stable poles at {int(row['n_poles'])} of {n_orders} model orders")
         if np.isfinite(row.get("freq_std_hz", np.nan)):
             parts.append(f"frequency ±{row['freq_std_hz']:.2g} Hz (std over the segments)")
-        if np.isfinite(row.get("mpc", np.nan)):
+        if shaped and np.isfinite(row.get("mpc", np.nan)):
             parts.append(f"MPC {row['mpc']:.2f}")
         if "spectral_support" in row:
             if row["spectral_support"]:
                 number = int(row["sv_number"])
                 which = {1: "first", 2: "second", 3: "third"}.get(number, f"{number}th")
                 alike = row["sv_mac"] >= SHAPE_AGREES
-                parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz "
-                             + (f"(shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
-                                f"whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
+                parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz"
+                             + ("" if not shaped else
+                                f" (shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
+                                f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
                                 "another mode's peak, or two modes in one"))
                 if np.isfinite(row.get("efdd_freq_hz", np.nan)):
                     parts.append(f"that peak's EFDD cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
@@ -207,6 +211,11 @@ def _record_sections(folder, result, settings: dict) -> dict:
                   "the estimates (from segments of the record); SV peak: the nearest peak of the singular values "
                   "of the spectral density matrix, SV MAC: the MAC of the mode's shape with that singular vector; "
                   "EFDD: frequency and damping from that peak's bell (enhanced FDD), a cross-check.")
+    n_channels = result.shapes.shape[0] if result.shapes is not None and result.shapes.ndim == 2 else None
+    if n_channels == 1:
+        modes_note += (" One channel: every shape is the same number, so MPC, MAC and the selection's 'same "
+                       "shape' are 1 by construction and tell modes apart by nothing; the modes rest on the "
+                       "stability of their poles and on the spectrum's peaks alone.")
     figures = [{"heading": "Stabilisation diagram",
                 "caption": "Poles by model order over the singular values of the record's spectral density matrix "
                            "(dB, right axis; the first darker). Red: poles clustered into a mode; vertical lines: "
@@ -217,7 +226,7 @@ def _record_sections(folder, result, settings: dict) -> dict:
                         "data": _image(folder / "mac.png"), "kind": "png", "css": "mac"})
     return {"summary": summary, "provenance": settings["provenance"],
             "modes": table_html(modes, MODE_HEADINGS, flagged, name="modes") if len(modes) else "",
-            "modes_note": modes_note, "no_mode_reason": result.no_mode_reason(), "evidence": evidence(modes, n_orders),
+            "modes_note": modes_note, "no_mode_reason": result.no_mode_reason(), "evidence": evidence(modes, n_orders, n_channels),
             "notes": list(getattr(result, "notes", ()) or ()), "figures": figures, "mac_table": None,
             "candidates": table_html(result.candidates, name="candidates") if len(result.candidates) else None,
             "settings": _settings_groups(settings)}

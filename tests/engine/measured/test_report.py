@@ -176,3 +176,22 @@ def test_the_evidence_names_the_peak_and_says_when_its_shape_is_another():
     assert "no singular-value peak near it" in third and third.endswith("Doubtful: no spectral peak.")
     modes.loc[1, "sv_mac"] = SHAPE_AGREES  # at the bound the shape agrees
     assert "(shape MAC 0.80 with its singular vector)" in evidence(modes, 30)[1]
+    # one channel: MPC and MAC are 1 by construction, no evidence: not cited; two channels: cited
+    one = modes.assign(mpc=1.0, sv_mac=1.0)
+    first, second, _ = evidence(one, 30, n_channels=1)
+    assert first.startswith("Mode 1 at 2.5 Hz, stable poles at 28 of 30 model orders, a peak of the first singular "
+                            "value at 2.515 Hz, that peak's EFDD") and "MPC" not in first and "MAC" not in first
+    assert "MAC" not in second and "second singular value at 2.515 Hz." in second
+    assert "MPC 1.00" in evidence(one, 30, n_channels=2)[0] and "shape MAC 1.00" in evidence(one, 30, n_channels=2)[0]
+
+
+def test_a_one_channel_record_s_page_says_its_shapes_tell_nothing(tmp_path):
+    """The page of a one-channel record says MPC, MAC and 'same shape' are 1
+    by construction; a two-channel record's page does not."""
+    acc, dt, f_exact = ambient_beam(duration_s=120.0)
+    for channels, said in ((1, True), (2, False)):
+        record = modal.read_record(modal.save_record_npz(tmp_path / f"r{channels}.npz", acc[:, 1:1 + channels], dt))
+        modal.write_identification(record, tmp_path / str(channels), "ambient", fmax=float(f_exact[2] * 1.3),
+                                   max_order=20)
+        page = (tmp_path / str(channels) / "report.html").read_text()
+        assert ("One channel: every shape is the same number" in page) == said
