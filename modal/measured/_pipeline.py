@@ -525,6 +525,8 @@ def identify_record(
         f"segments, {spectrum.df:.3g} Hz resolution)")
     onset = None if excitation == "ambient" else onset_spectrum(y[start:], dt, spectrum.nperseg)
     result = with_spectral_witness(result, spectrum, quantities=options.quantities, onset=onset)
+    if chosen["decimation"] >= 2:
+        result = with_filter_check(result, chosen["decimation"], dt)
     if excitation == "ambient":  # a decay's amplitude decays, a harmonic's and a random mode's do not
         result = with_harmonic_check(result, y, dt)
     if np.any(scales != 1):
@@ -548,6 +550,33 @@ def identify_record(
 NO_SPECTRAL_PEAK = "no spectral peak"
 #: The reason a mode of steady amplitude carries in ``flag`` (with its envelope's variation).
 HARMONIC = "harmonic"
+#: The reason a mode at the decimation filter's own pole carries in ``flag`` (with the pole).
+FILTER_POLE = "anti-aliasing filter's pole"
+
+
+def with_filter_check(result: Stabilisation, factor, dt) -> Stabilisation:
+    """``result`` with ``anti-aliasing filter's pole (33.52 Hz, 6.6 %)``
+    among the reasons of each mode (where ``modes`` has a ``flag`` column)
+    within the pole's half-power half-width ``zeta_p f_p`` of
+    :func:`modal.signals.antialiasing_pole` and damped within a factor two of
+    it: a record decimated by ``factor`` to ``dt`` rings at that pole where
+    it had noise or modes in the filter's transition band; a structural
+    mode there is told apart by its lighter damping (a mode damped 5-7 % at
+    that very frequency is flagged too)."""
+    import dataclasses
+
+    from ..signals import antialiasing_pole
+
+    modes = result.modes
+    if "flag" not in modes or not len(modes):
+        return result
+    pole_hz, pole_zeta = antialiasing_pole(factor, dt)
+    freq, damping = modes["freq_hz"].to_numpy(), modes["damping"].to_numpy()
+    at_pole = (np.abs(freq / pole_hz - 1) < pole_zeta) & (damping >= pole_zeta / 2) & (damping <= 2 * pole_zeta)
+    reason = f"{FILTER_POLE} ({pole_hz:.4g} Hz, {100 * pole_zeta:.2g} %)"
+    modes = modes.copy()
+    modes["flag"] = _with_reasons(modes["flag"], [reason if hit else "" for hit in at_pole])
+    return dataclasses.replace(result, modes=modes)
 
 
 def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:

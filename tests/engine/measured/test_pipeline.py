@@ -398,3 +398,43 @@ def test_a_channel_in_other_units_is_scaled_up_and_its_shape_entries_back():
         np.testing.assert_allclose(abs(ratio_gain), 1e-3 * abs(ratio_same), rtol=0.05)
         assert np.isclose(np.linalg.norm(gain.complex_shapes[:, k]), 1.0)
         assert np.allclose(np.linalg.norm(gain.pole_shapes, axis=1), 1.0)
+
+
+def _modes_near_nyquist(seed=0, minutes=5.0, fs=400.0):
+    """Seven channels, seven modes damped 1 % (orthonormal shapes) under white
+    forces, two of them (37 and 39 Hz) above the edge (32 Hz) of the
+    anti-aliasing filter of the default decimation by 5 to 80 Hz."""
+    import scipy.linalg as sl
+    import scipy.signal as ss
+
+    freqs = 2 * np.pi * np.array([1.0, 3.1, 7.3, 12.2, 19.5, 37.0, 39.0])
+    q, _ = np.linalg.qr(np.random.default_rng(123).standard_normal((7, 7)))
+    k, c = q @ np.diag(freqs**2) @ q.T, q @ np.diag(0.02 * freqs) @ q.T
+    a = np.block([[np.zeros((7, 7)), np.eye(7)], [-k, -c]])
+    b = np.vstack([np.zeros((7, 7)), np.eye(7)])
+    ad = sl.expm(a / fs)
+    system = ss.StateSpace(ad, np.linalg.solve(a, ad - np.eye(14)) @ b, np.hstack([-k, -c]), np.eye(7), dt=1 / fs)
+    rng = np.random.default_rng(seed)
+    _, acc, _ = ss.dlsim(system, rng.standard_normal((int(minutes * 60 * fs), 7)))
+    return acc + 0.02 * acc.std(axis=0) * rng.standard_normal(acc.shape), 1 / fs
+
+
+def test_the_default_decimation_filters_own_pole_is_flagged_not_trusted():
+    """The default decimates by 5 (67 samples per period of the 1 Hz peak):
+    the modes at 37 and 39 Hz make its Chebyshev filter ring at its pole
+    (33.5 Hz, 6.6 %); that ringing is no mode of the structure and is
+    flagged, while a structural mode just below the filter's edge (31 Hz,
+    damped 1 %) keeps no such flag."""
+    acc, dt = _modes_near_nyquist()
+    result, dt_used = modal.identify_record(acc, dt, "ambient")
+    assert dt_used == pytest.approx(5 * dt)
+    modes = result.modes
+    ringing = modes[(modes["freq_hz"] - 33.2).abs() < 1.0]
+    assert len(ringing) and ringing["damping"].between(0.03, 0.1).all()
+    assert ringing["flag"].str.contains("anti-aliasing filter's pole (33.52 Hz, 6.6 %)", regex=False).all()
+    trusted = result.trusted_modes["freq_hz"].to_numpy()
+    assert not np.any((trusted > 32) & (trusted < 35))
+    for f in (1.0, 3.1, 7.3, 12.2, 19.5):
+        assert np.min(np.abs(trusted / f - 1)) < 0.01
+    pole_hz, pole_zeta = modal.signals.antialiasing_pole(5, dt_used)
+    assert pole_hz == pytest.approx(0.8381 * 40, rel=1e-3) and pole_zeta == pytest.approx(0.0663, abs=1e-3)
