@@ -41,6 +41,8 @@ from pathlib import Path
 
 import pandas as pd
 
+from ._jobs import as_text
+
 
 def _identify_schema() -> dict:
     """The ``identify`` section's schema: :class:`modal.IdentifyOptions`'s own."""
@@ -436,7 +438,8 @@ def _glob_index(base: Path, pattern: str, time_format: str, time_regex: str | No
             time = datetime.strptime(text, time_format)
         except ValueError:
             raise ValueError(f"{p}: records.time_format {time_format!r} does not parse {text!r}") from None
-        rows.append({"record": str(p.relative_to(base)), "path": str(p), "time": time})
+        # the record's name is text (in every CSV): a name's bytes that are not UTF-8 as \\xe9
+        rows.append({"record": as_text(str(p.relative_to(base))), "path": str(p), "time": time})
     return pd.DataFrame(rows, columns=["record", "path", "time"]).astype({"time": "datetime64[ns]"})
 
 

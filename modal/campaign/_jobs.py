@@ -18,6 +18,16 @@ FAILED_COLUMNS = ["record", "reason"]
 CAMPAIGN_FS = "give the sampling rate: identify.fs (Hz) in the campaign file"
 
 
+def as_text(name: str) -> str:
+    """``name`` as UTF-8 text: a path's bytes that are not UTF-8 (held by
+    Python as surrogates, ``\\udce9``) written as ``\\xe9``, so that every
+    CSV, log and report can hold it (a surrogate cannot be written)."""
+    try:
+        return name.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:  # a surrogate no file name's byte gives
+        return name.encode("utf-8", "backslashreplace").decode("utf-8")
+
+
 def channel_units(record) -> list:
     """The unit each channel of ``record`` declares (a UFF's or LVM's unit
     label) in one spelling (:func:`modal.records.unit_key`: ``m/s^2`` and
@@ -96,16 +106,17 @@ def identify_chunk(records: pd.DataFrame, options, modes_csv, failed_csv, layout
             result = identify_one(rec.path, options, layout, warned)
         except Exception as exc:  # one record's failure, whatever its kind, is that record's
             # the rate is the campaign file's identify.fs, not the command line's --fs
-            failed.append({"record": rec.record, "reason": _reason(exc).replace(GIVE_FS, CAMPAIGN_FS)})
+            reason = _reason(exc).replace(GIVE_FS, CAMPAIGN_FS)
+            failed.append({"record": as_text(rec.record), "reason": as_text(reason)})
             continue
         finally:
             for line in warned:
-                print(f"{rec.record}: {line}", file=sys.stderr)
+                print(as_text(f"{rec.record}: {line}"), file=sys.stderr)
         modes = result.modes
         trusted = (modes["flag"].fillna("") == "").to_numpy() if "flag" in modes else np.ones(len(modes), bool)
         time = pd.Timestamp(rec.time).isoformat()  # one format in every chunk: ISO 8601, whole or not
         for k in np.flatnonzero(trusted):  # a doubtful mode (its flag says why) is never tracked
-            row = {"record": rec.record, "time": time}
+            row = {"record": as_text(rec.record), "time": time}
             row.update({c: modes[c].iloc[k] for c in MODE_COLUMNS[2:]})
             row.update({f"phi_{c}": v for c, v in enumerate(result.shapes[:, k])})
             rows.append(row)

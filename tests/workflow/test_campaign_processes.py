@@ -192,6 +192,38 @@ def test_braces_in_the_campaign_folder_a_record_s_path_and_the_output_folder(tmp
     assert len(pd.read_csv(out / "failed.csv")) == 0 and (out / "report.html").is_file()
 
 
+@pytest.mark.slow  # runs a campaign twice
+def test_bytes_that_are_not_utf8_in_the_campaign_folder_and_a_record_s_name(tmp_path):
+    """A file name that is not UTF-8 (a logger's Latin-1 ``\\xe9``): Snakemake
+    cannot write it to its locks, so before, one such record found by a glob
+    (or such a campaign folder) stopped the whole workflow on every run (exit
+    7, "run the same command again to resume"). It is identified with the
+    others, named with ``\\xe9`` in every CSV, and its chunk reruns when its
+    bytes change."""
+    folder = Path(os.fsdecode(os.fsencode(tmp_path) + b"/camp\xff\xfe"))
+    small_campaign(folder, n_records=3, duration=60.0)
+    records = sorted((folder / "records").iterdir())
+    odd = records[1].with_name(os.fsdecode(os.fsencode(records[1].stem) + b"_\xe9.npz"))
+    records[1].rename(odd)
+    campaign = folder / "glob.yaml"
+    campaign.write_text("records:\n  glob: 'records/*.npz'\n  time_format: '%Y%m%d_%H%M'\n"
+                        "  time_regex: '_(\\d{8}_\\d{4})'\nidentify:\n  excitation: ambient\n  fmax: 10\n")
+    out = tmp_path / "out"
+    assert cli(["campaign", str(campaign), "--out", str(out)]) == 0
+    name = "records/" + records[1].stem + "_\\xe9.npz"
+    tracked = pd.read_csv(out / "tracked.csv")
+    assert set(tracked["record"]) == {"records/" + records[0].name, name, "records/" + records[2].name}
+    assert len(pd.read_csv(out / "failed.csv")) == 0 and (out / "report.html").is_file()
+    # its bytes replaced by another record's, same size and time stamps: its chunk reruns
+    stat = odd.stat()
+    odd.write_bytes(records[0].read_bytes())
+    os.utime(odd, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert cli(["campaign", str(campaign), "--out", str(out)]) == 0
+    tracked = pd.read_csv(out / "tracked.csv")
+    first = tracked[tracked["record"] == "records/" + records[0].name]
+    assert tracked[tracked["record"] == name]["freq_hz"].tolist() == first["freq_hz"].tolist()
+
+
 def test_an_interrupted_campaign_names_its_command(tmp_path, capsys, monkeypatch):
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
