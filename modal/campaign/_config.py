@@ -296,13 +296,14 @@ def _layout(path, options, index) -> tuple[dict | None, str | None]:
     lands in ``failed.csv``)."""
     import numpy as np
 
-    from ..records import GIVE_FS, read_record
+    from ..records import FS_CONTRADICTS, GIVE_FS, read_record
     from ._jobs import channel_units
 
     n = len(index)
     spread = list(dict.fromkeys(np.linspace(0, n - 1, min(n, LAYOUT_SAMPLE)).round().astype(int).tolist()))
     taken = set(spread)
-    found, read = {}, 0  # layout (as a key) -> (position, name, rate) of the records that have it
+    found, read = {}, 0  # layout (as a key) -> (position, name, rate, samples) of the records that have it
+    contradicted = None  # the first record whose own rate identify.fs contradicts
     for k in spread + [k for k in range(n) if k not in taken]:
         if read == LAYOUT_SAMPLE:
             break
@@ -315,11 +316,17 @@ def _layout(path, options, index) -> tuple[dict | None, str | None]:
             if options.fs is None and GIVE_FS in str(exc):
                 raise ValueError(f"{path}: identify.fs: record {name} holds no sampling rate: give the rate of "
                                  "the campaign's records as identify.fs (Hz) in the campaign file") from None
+            if contradicted is None and FS_CONTRADICTS in str(exc):
+                contradicted = name
             continue
         read += 1
         key = (int(record.acc.shape[1]), float(f"{record.fs:.9g}"), tuple(channel_units(record)))
         found.setdefault(key, []).append((int(k), name, float(record.fs), int(record.acc.shape[0])))
     if not found:
+        if contradicted is not None:  # no record reads with it: a setting every record would fail
+            raise ValueError(f"{path}: identify.fs = {options.fs:g} Hz contradicts the rate the records hold (as "
+                             f"{contradicted}, and no record read with it): leave identify.fs out, it is for "
+                             "records that hold no rate (.npy)")
         return None, None
     key = max(found, key=lambda key: (len(found[key]), -min(k for k, *_ in found[key])))
     _, name, fs, _ = min(found[key])

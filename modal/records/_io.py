@@ -36,6 +36,8 @@ from ..identification import ModalWarning
 DT_RTOL = 1e-6
 #: How a record without a sampling rate gets one, in the API and on the command line.
 GIVE_FS = "give the sampling rate: fs=<Hz> (on the command line --fs <Hz>)"
+#: How a refusal of an ``fs`` the file's own sampling interval contradicts reads.
+FS_CONTRADICTS = "contradicts the file's dt"
 #: The start of a UFF data set of type 58 (58b: binary): a line ``-1``, then its type.
 _UFF58_START = re.compile(rb"(?m)^ *-1\r?\n *58b?\b")
 
@@ -106,7 +108,7 @@ def _resolve_dt(dt_file, fs, path) -> float:
     if dt_file is None and dt_arg is None:
         raise ValueError(f"{path}: no sampling rate in the file; {GIVE_FS}")
     if dt_file is not None and dt_arg is not None and abs(dt_file - dt_arg) > DT_RTOL * dt_arg:
-        raise ValueError(f"{path}: fs = {fs} Hz contradicts the file's dt = {dt_file} s")
+        raise ValueError(f"{path}: fs = {fs} Hz {FS_CONTRADICTS} = {dt_file} s")
     return dt_file if dt_file is not None else dt_arg
 
 

@@ -157,6 +157,11 @@ def test_campaign_file_refusals(tmp_path, capsys):
     refused(base + "channels: [0, 3]}\n", "identify.channels [3]: the record has channels 0 ... 2")
     refused(base + "fmax: 5, highpass_hz: 5}\n", "identify.highpass_hz = 5 Hz must be below fmax = 5 Hz")
     refused(base + "rows: 30.0}\n", "identify.rows must be an integer, got 30.0")
+    # an identify.fs that the records' own rate contradicts: no record reads with it
+    refused(base + "fs: 50}\n", "identify.fs = 50 Hz contradicts the rate the records hold (as b.npz, and no record "
+                               "read with it): leave identify.fs out")
+    (tmp_path / "c.yaml").write_text(base + "fs: 20}\n")
+    assert read_campaign(tmp_path / "c.yaml")[0]["identify"]["fs"] == 20  # the records' own rate: taken
     # rows whose lags the records cannot hold (the longest read decides: a shorter one fails alone in its job)
     refused(base + "rows: 600}\n", "identify.rows = 600 needs 1201 lags, more than half the 2000-sample record: "
                                  "give rows = 499 at the most or a longer record (the campaign's records: 3 channels")
