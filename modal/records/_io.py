@@ -127,20 +127,26 @@ def _load_npy(path: Path, fs):
 
 def _load_npz(path: Path, fs):
     # numpy leaves a path it opened open when the zip is unreadable: the file is opened here
-    with open(path, "rb") as fh, np.load(fh, allow_pickle=False) as data:
-        keys = set(data.files)
-        name = "acc" if "acc" in keys else "y" if "y" in keys else None
-        if name is None:
-            raise ValueError(f"{path}: expected an array 'acc' or 'y', found {sorted(keys)}")
-        acc = data[name]
-        dt_file = None
-        if "dt" in keys:
-            dt_file = _stored_positive("dt", data["dt"])
-        if "fs" in keys:
-            dt_fs = 1.0 / _stored_positive("fs", data["fs"])
-            if dt_file is not None and abs(dt_file - dt_fs) > DT_RTOL * dt_fs:
-                raise ValueError(f"{path}: the file's dt = {dt_file} s contradicts its fs = {float(data['fs'])} Hz")
-            dt_file = dt_fs
+    with open(path, "rb") as fh:
+        head = fh.read(4)
+        if len(head) == 4 and head not in (b"PK\x03\x04", b"PK\x05\x06"):  # numpy: other bytes are a pickle
+            raise ValueError(f"{path}: not an .npz archive (no zip header): the file is damaged or of another kind")
+        fh.seek(0)
+        with np.load(fh, allow_pickle=False) as data:
+            keys = set(data.files)
+            name = "acc" if "acc" in keys else "y" if "y" in keys else None
+            if name is None:
+                raise ValueError(f"{path}: expected an array 'acc' or 'y', found {sorted(keys)}")
+            acc = data[name]
+            dt_file = None
+            if "dt" in keys:
+                dt_file = _stored_positive("dt", data["dt"])
+            if "fs" in keys:
+                dt_fs = 1.0 / _stored_positive("fs", data["fs"])
+                if dt_file is not None and abs(dt_file - dt_fs) > DT_RTOL * dt_fs:
+                    raise ValueError(f"{path}: the file's dt = {dt_file} s contradicts its fs = "
+                                     f"{float(data['fs'])} Hz")
+                dt_file = dt_fs
     acc = _as_record(acc)
     return MeasuredRecord(acc, _resolve_dt(dt_file, fs, path), _channels(acc.shape[1]), path)
 

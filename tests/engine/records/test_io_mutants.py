@@ -307,6 +307,19 @@ def test_object_arrays_are_not_unpickled(tmp_path, suffix):
         read_record(path, fs=100 if suffix == ".npy" else None)
 
 
+@pytest.mark.parametrize("content", [bytes(range(256)) * 4, b"\x93NUMPY" + bytes(60), b"PK\x01\x02" + bytes(40)])
+def test_an_npz_that_is_no_zip_is_named_so_not_a_pickle(tmp_path, content):
+    """Random bytes, an .npy's header under an .npz name, a zip's central
+    directory without its files: numpy would call them pickled data or a bad
+    zip; the reader says no zip header (an empty file: numpy's 'No data left
+    in file')."""
+    (tmp_path / "r.npz").write_bytes(content)
+    with pytest.raises(ValueError, match=r"r.npz: not an .npz archive \(no zip header\): the file is damaged"):
+        read_record(tmp_path / "r.npz")
+    np.savez(tmp_path / "r.npz", acc=np.ones((4, 1)), dt=0.01)  # a zip: read
+    assert read_record(tmp_path / "r.npz").acc.shape == (4, 1)
+
+
 def test_npz_without_acc_or_y_names_its_arrays(tmp_path):
     np.savez(tmp_path / "r.npz", x=np.ones((4, 1)), dt=0.01)
     with pytest.raises(ValueError, match=r"r.npz: expected an array 'acc' or 'y', found \['dt', 'x'\]"):
