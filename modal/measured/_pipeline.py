@@ -605,14 +605,10 @@ def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:
 
 def _with_columns(modes: pd.DataFrame, table: pd.DataFrame) -> pd.DataFrame:
     """``modes`` with ``table``'s columns (one row per mode) last, any already
-    there replaced; ``modes`` itself is left as it was. Column by column on a
-    copy, each on ``modes``' index: some half the time of ``pd.concat`` of the
-    two (and no ``drop`` when nothing is replaced: that alone costs as much)."""
+    there replaced: in one step (a third of the time of one at a time), and
+    ``drop`` only when a column is replaced (it costs as much as the join)."""
     replaced = [column for column in table.columns if column in modes.columns]
-    modes = modes.drop(columns=replaced) if replaced else modes.copy()
-    for column in table.columns:
-        modes[column] = table[column].set_axis(modes.index)
-    return modes
+    return pd.concat([modes.drop(columns=replaced) if replaced else modes, table.set_axis(modes.index)], axis=1)
 
 
 def _flag_texts(flags: pd.Series) -> list[str]:
