@@ -701,7 +701,7 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
     second = [stated.get(c) for c in kept]
     mode_shapes = shapes[:, medoids[kept]]
     close, close_mac = _close_modes(mean["freq_hz"][kept], mode_shapes, criteria.close_rtol)
-    modes = pd.DataFrame({
+    columns = {
         "mode": np.arange(1, len(kept) + 1), "freq_hz": mean["freq_hz"][kept], "freq_std_hz": np.nan,
         "freq_spread_hz": std["freq_hz"][kept], "damping": mean["damping"][kept], "damping_std": np.nan,
         "damping_spread": std["damping"][kept], "n_poles": count[kept],
@@ -709,11 +709,12 @@ def _select_modes(poles: dict, pole_shapes: np.ndarray, criteria: StabilityCrite
         "close_mac": close_mac,
         "second_freq_hz": [np.nan if c is None else mean["freq_hz"][c] for c in second],
         "second_damping": [np.nan if c is None else mean["damping"][c] for c in second],
-    })
+    }
     # each entry against its channel's level: the shapes are in one quantity (the first channel's), the levels in
     # another (the highest derivative), and converting one mode's entries between the two scales them all alike
     visible = np.abs(mode_shapes) / (np.ones(l) if channel_levels is None else channel_levels)[:, None]
-    modes["flag"] = _flags(modes, visible, criteria, mac(mode_shapes, mode_shapes))
+    columns["flag"] = _flags(columns, visible, criteria, mac(mode_shapes, mode_shapes))
+    modes = pd.DataFrame(columns)  # one frame with its flags: a column set afterwards costs half as much again
     return labels, modes, mode_shapes, candidates, above
 
 
@@ -797,9 +798,11 @@ def _second_estimates(modes, count, freq, damping, clusters, member, macs, shape
     return second_of
 
 
-def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=None) -> list[str]:
+def _flags(modes, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=None) -> list[str]:
     """Why each mode is doubtful (reasons joined by ``"; "``, empty when
-    trusted); ``visible`` (channels x modes): each shape entry's magnitude
+    trusted); ``modes``: the modes table, or its columns (``freq_hz``,
+    ``damping``, ``n_poles``, ``mpc``, ``mamc``) as a dict of arrays;
+    ``visible`` (channels x modes): each shape entry's magnitude
     against its channel's level; ``mode_mac``: the MAC between the modes'
     shapes (default: none alike).
 
@@ -822,20 +825,21 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
       energy;
     - ``side band of 116.9 Hz by 6.617 Hz``: see :func:`_side_bands`.
     """
-    mpc, damping = modes["mpc"].to_numpy(), modes["damping"].to_numpy()
+    mpc, damping = np.asarray(modes["mpc"]), np.asarray(modes["damping"])
     clean = damping[mpc >= criteria.doubtful_mpc]
     reference = np.median(clean if len(clean) >= 2 else damping)
-    mamc = modes["mamc"].to_numpy()
-    freq, n_poles = modes["freq_hz"].to_numpy(), modes["n_poles"].to_numpy()
-    mode_mac = np.eye(len(modes)) if mode_mac is None else mode_mac
+    mamc = np.asarray(modes["mamc"])
+    freq, n_poles = np.asarray(modes["freq_hz"]), np.asarray(modes["n_poles"])
+    n = len(freq)
+    mode_mac = np.eye(n) if mode_mac is None else mode_mac
     energy = visible**2
     share = energy.max(axis=0) / energy.sum(axis=0)
     # two resonances overlap when they lie closer than the sum of their half-power half-widths
     half_width = freq * np.clip(np.nan_to_num(damping), *SIDE_BAND_ZETA)
     flags = []
-    for k in range(len(modes)):
+    for k in range(n):
         reasons = []
-        stronger = [j for j in range(len(modes)) if j != k and mode_mac[j, k] >= criteria.mac_min
+        stronger = [j for j in range(n) if j != k and mode_mac[j, k] >= criteria.mac_min
                     and abs(freq[j] - freq[k]) < max(criteria.close_rtol * max(freq[j], freq[k]),
                                                       half_width[j] + half_width[k])
                     and (n_poles[j], -j) > (n_poles[k], -k)]
@@ -846,8 +850,7 @@ def _flags(modes: pd.DataFrame, visible: np.ndarray, criteria: StabilityCriteria
             reasons.append(f"low MPC {mpc[k]:.2f}")
         if mamc[k] < criteria.doubtful_mamc:
             reasons.append(f"low MAMC {mamc[k]:.2f}")
-        if len(modes) > 1 and not (reference / criteria.damping_factor <= damping[k]
-                                   <= reference * criteria.damping_factor):
+        if n > 1 and not (reference / criteria.damping_factor <= damping[k] <= reference * criteria.damping_factor):
             reasons.append(f"damping {100 * damping[k]:.2g} % implausible (median {100 * reference:.2g} %)")
         if len(visible) >= MIN_CHANNELS_ALIKE and share[k] >= criteria.single_channel_share:
             reasons.append("single channel")
@@ -929,10 +932,10 @@ def _join_split_clusters(clusters, order, distance, merge_distance):
     label on ties; the lower label stays), until none is left.
 
     The clusters' summed distances (``E^T D E``, ``E`` the poles' cluster
-    indicators), sizes and orders are kept as matrices and updated at each
-    join, so a join costs one pass over the pairs of clusters, not over the
-    pairs of poles: with a few hundred clusters of a long diagram the
-    pairwise loop took seconds."""
+    indicators), sizes and which pairs share an order are kept as matrices and
+    updated at each join, so a join costs one pass over the pairs of clusters,
+    not over the pairs of poles: with a few hundred clusters of a long diagram
+    the pairwise loop took seconds."""
     clusters = clusters.copy()
     ids, index = np.unique(clusters, return_inverse=True)
     k = len(ids)
@@ -943,11 +946,11 @@ def _join_split_clusters(clusters, order, distance, merge_distance):
     orders, order_index = np.unique(order, return_inverse=True)
     present = np.zeros((k, len(orders)), dtype=bool)
     present[index, order_index] = True
+    shared = (present.astype(int) @ present.T.astype(int)) > 0  # the pairs that share an order
     alive = np.ones(k, dtype=bool)
     upper = np.triu(np.ones((k, k), dtype=bool), 1)
     while True:
         mean = sums / np.outer(size, size)  # a joined cluster keeps its size: never 0 / 0
-        shared = (present.astype(int) @ present.T.astype(int)) > 0
         open_pair = upper & ~shared & alive[:, None] & alive[None, :] & (mean < merge_distance)
         if not open_pair.any():
             return clusters
@@ -956,7 +959,8 @@ def _join_split_clusters(clusters, order, distance, merge_distance):
         sums[a] += sums[b]
         sums[:, a] += sums[:, b]
         size[a] += size[b]
-        present[a] |= present[b]
+        shared[a] |= shared[b]  # a cluster shares an order with b's partners now too
+        shared[:, a] |= shared[:, b]
         alive[b] = False
 
 
