@@ -14,6 +14,7 @@ no such peak near it is one that no spectrum of the record confirms.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import pandas as pd
@@ -104,10 +105,24 @@ class SingularValueSpectrum:
     def decibels(self) -> np.ndarray:
         """``10 log10`` of :attr:`values`, relative to the largest first
         singular value (0 dB); a zero value is -300 dB."""
+        return self._decibels.copy()
+
+    @cached_property
+    def _decibels(self) -> np.ndarray:
+        """:meth:`decibels`, computed once for the methods below (read-only):
+        :func:`spectral_support` asks for them some twenty times per record."""
         reference = float(np.max(self.values[:, 0])) if self.values.size else 0.0
         with np.errstate(divide="ignore"):
-            db = 10 * np.log10(self.values / (reference if reference > 0 else 1.0))
-        return np.maximum(db, -300.0)
+            db = np.maximum(10 * np.log10(self.values / (reference if reference > 0 else 1.0)), -300.0)
+        db.flags.writeable = False
+        return db
+
+    @cached_property
+    def _maxima(self) -> list[np.ndarray]:
+        """The local maxima (``scipy.signal.find_peaks``) of each singular value in dB, computed once."""
+        from scipy.signal import find_peaks
+
+        return [find_peaks(self._decibels[:, k])[0] for k in range(self._decibels.shape[1])]
 
     def peaks(self, prominence_db=PEAK_PROMINENCE_DB, height_db=PEAK_HEIGHT_DB, fmax=None) -> pd.DataFrame:
         """The peaks of each singular value, by frequency.
@@ -133,7 +148,7 @@ class SingularValueSpectrum:
 
         prominence_db = nonnegative_float("prominence_db", prominence_db)
         height_db = nonnegative_float("height_db", height_db)
-        db = self.decibels()
+        db = self._decibels
         rows = []
         for k in range(db.shape[1]):
             found, properties = find_peaks(db[:, k], prominence=prominence_db)
@@ -155,7 +170,7 @@ class SingularValueSpectrum:
         value ``sv_number``, refined by the parabola through the three bins
         around it (in dB): exact for a Gaussian peak, better than a bin for
         any smooth one."""
-        db = self.decibels()[:, sv_number - 1]
+        db = self._decibels[:, sv_number - 1]
         if not 0 < index < len(db) - 1:
             return float(self.freq_hz[index])
         left, centre, right = db[index - 1:index + 2]
@@ -180,13 +195,13 @@ class SingularValueSpectrum:
         tuple of (int, int, float) or None
             ``(bin, sv_number, prominence_db)`` of that maximum, or None.
         """
-        from scipy.signal import find_peaks, peak_prominences
+        from scipy.signal import peak_prominences
 
-        db = self.decibels()
+        db = self._decibels
         half = int(np.ceil(SUPPORT_BANDWIDTHS * tolerance_hz / self.df))
         best = None
         for k in range(db.shape[1]):
-            maxima, _ = find_peaks(db[:, k])
+            maxima = self._maxima[k]
             maxima = maxima[(maxima >= 2) & (np.abs(self.freq_hz[maxima] - freq_hz) <= tolerance_hz)]
             if maxima.size == 0:
                 continue
