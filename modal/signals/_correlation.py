@@ -78,7 +78,8 @@ def correlations(y, n_lags, refs=None, estimator="biased") -> np.ndarray:
         if np.any(refs < 0) or np.any(refs >= n_channels) or len(set(refs.tolist())) != refs.size:
             raise ValueError(f"refs must be distinct channel indices in 0 ... {n_channels - 1}, got {refs.tolist()}")
     cross, n_fft = _cross_spectra_sum(y, n_lags, refs)
-    corr = scipy.fft.irfft(cross, n=n_fft, axis=0)[:n_lags].transpose(1, 0, 2)
+    # reference by reference: each inverse FFT's output (all n_fft lags, n_lags of them kept) a quarter the size
+    corr = np.stack([scipy.fft.irfft(cross[:, r], n=n_fft, axis=0)[:n_lags] for r in range(len(refs))])
     counts = n_samples - np.arange(n_lags) if estimator == "unbiased" else np.full(n_lags, n_samples)
     return np.ascontiguousarray(corr / (n_sets * counts)[None, :, None])
 
