@@ -47,6 +47,9 @@ SIDE_BAND_ZETA = (0.001, 0.1)
 #: How the flag of the weaker of two modes of one shape and one resonance begins (:func:`_flags`); the
 #: spectral witness leaves a pair so decided alone (:func:`modal.measured.with_spectral_witness`).
 SAME_SHAPE = "same shape as"
+#: How a damping flagged above the record's median reads (:func:`_flags`); a mode with a spectral peak of its
+#: own keeps no such reason (:func:`modal.measured.with_spectral_witness`): a heavily damped real mode.
+DAMPED_ABOVE = "implausibly high"
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
 HANKEL_MAX_BYTES = 512 * 2**20
@@ -115,7 +118,8 @@ class StabilityCriteria:
         Schenk 1993's EMAC; side bands and noise fall short).
     damping_factor : float
         A mode whose damping ratio is more than this factor below or above
-        the median of the record's modes is flagged ``damping ... implausible``.
+        the median of the record's modes is flagged ``damping ... implausibly low``
+        (or ``high``).
     single_channel_share : float
         A mode of a record of three channels or more whose largest channel
         holds at least this share of the shape's energy (``|phi_c|^2 / sum |phi|^2``,
@@ -175,7 +179,7 @@ class Stabilisation:
         same mode: a cluster of the same shape, at the same orders, within
         ``criteria.merge_distance``; NaN when none), ``flag`` (why the mode is
         doubtful, reasons separated by ``"; "``: ``low MPC 0.41``, ``damping
-        0.05 % implausible (median 1.5 %)``, ``single channel``; empty when the
+        0.05 % implausibly low (median 1.5 %)``, ``single channel``; empty when the
         mode is trusted; see :attr:`trusted_modes`).
     shapes : ndarray, shape (n_channels, n_modes)
         Representative shape of each mode, real and normalised: that of its
@@ -816,10 +820,12 @@ def _flags(modes, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=Non
 
     - ``low MPC 0.41``: MPC below ``criteria.doubtful_mpc``;
     - ``low MAMC 0.89``: MAMC below ``criteria.doubtful_mamc``;
-    - ``damping 0.05 % implausible (median 1.5 %)``: more than
-      ``criteria.damping_factor`` times below or above the median damping of
-      the record's modes of MPC at least ``doubtful_mpc`` (of all modes when
-      fewer than two are; no check for a single mode);
+    - ``damping 0.05 % implausibly low (median 1.5 %)`` (or ``high``): more
+      than ``criteria.damping_factor`` times below or above the median
+      damping of the record's modes of MPC at least ``doubtful_mpc`` (of all
+      modes when fewer than two are; no check for a single mode); the
+      spectral witness takes the ``high`` reason back from a mode with a
+      singular-value peak of its own (:data:`DAMPED_ABOVE`);
     - ``single channel``: of :data:`MIN_CHANNELS_ALIKE` channels or more,
       one holds at least ``criteria.single_channel_share`` of the shape's
       energy;
@@ -851,7 +857,8 @@ def _flags(modes, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=Non
         if mamc[k] < criteria.doubtful_mamc:
             reasons.append(f"low MAMC {mamc[k]:.2f}")
         if n > 1 and not (reference / criteria.damping_factor <= damping[k] <= reference * criteria.damping_factor):
-            reasons.append(f"damping {100 * damping[k]:.2g} % implausible (median {100 * reference:.2g} %)")
+            side = DAMPED_ABOVE if damping[k] > reference else "implausibly low"
+            reasons.append(f"damping {100 * damping[k]:.2g} % {side} (median {100 * reference:.2g} %)")
         if len(visible) >= MIN_CHANNELS_ALIKE and share[k] >= criteria.single_channel_share:
             reasons.append("single channel")
         flags.append(reasons)

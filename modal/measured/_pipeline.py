@@ -623,6 +623,14 @@ def _with_reasons(flags: pd.Series, *reasons) -> pd.Series:
                      index=flags.index, dtype=flags.dtype)
 
 
+def _without_reasons(flags: pd.Series, marker: str, where) -> pd.Series:
+    """Each mode's ``flag`` without the reasons that contain ``marker``
+    where ``where`` (one bool per mode) holds."""
+    kept = [flag if not drop else "; ".join(r for r in flag.split("; ") if marker not in r)
+            for flag, drop in zip(_flag_texts(flags), where)]
+    return pd.Series(kept, index=flags.index, dtype=flags.dtype)
+
+
 def onset_spectrum(decay, dt, nperseg):
     """The singular-value spectrum of a free decay with its first Welch
     segment centred on the impact: ``decay`` (from its start) after
@@ -650,7 +658,11 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     the columns ``sv_peak_hz``, ``sv_number``, ``sv_mac``, ``spectral_support``
     added to ``modes`` (last; any already there replaced) and, where
     ``modes`` has a ``flag`` column, the reason :data:`NO_SPECTRAL_PEAK` added
-    to an unsupported mode's reasons, and ``same spectral peak as ...`` to a
+    to an unsupported mode's reasons, a supported mode's ``damping ...
+    implausibly high`` taken back (a heavily damped mode with a peak of its
+    own is real: a damper, a joint, the soil; noise modes, damped as much,
+    have none, while a harmonic's or a noise line's implausibly low damping
+    comes with a sharp peak and stays flagged), and ``same spectral peak as ...`` to a
     mode that shares its peak and shape with a stronger one
     (:func:`modal.identification.shared_peaks`; a pair of which the
     selection named one ``same shape as ...`` is left as it decided, and a
@@ -668,7 +680,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     a fraction of a Welch segment is judged on the decay's first samples."""
     import dataclasses
 
-    from ..identification import QUANTITIES, SAME_SHAPE, SHARED_PEAK_MAC, shared_peaks, spectral_support
+    from ..identification import DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK_MAC, shared_peaks, spectral_support
 
     modes = result.modes
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
@@ -689,11 +701,13 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
             support[column] = values
     modes = _with_columns(modes, support)
     if "flag" in modes:
+        supported = support["spectral_support"].to_numpy(bool)
+        modes["flag"] = _without_reasons(modes["flag"], DAMPED_ABOVE, supported)
         flags = _flag_texts(modes["flag"])
         shadows = np.array([flag.startswith(SAME_SHAPE) for flag in flags], dtype=bool)
         shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows,
                               doubtful=np.array([flag != "" for flag in flags], dtype=bool) & ~shadows)
-        lacking = [NO_SPECTRAL_PEAK if not found else "" for found in support["spectral_support"].to_numpy(bool)]
+        lacking = [NO_SPECTRAL_PEAK if not found else "" for found in supported]
         modes["flag"] = _with_reasons(modes["flag"], lacking, shared)
     return dataclasses.replace(result, modes=modes)
 

@@ -173,8 +173,8 @@ def test_damping_is_implausible_by_a_factor_of_the_records_median():
     modes = mode_table([1.0] * 5 + [0.3] * 3, [1.0] * 8, [0.015, 0.016, 0.0005, 0.1, 0.0031, 0.0004, 0.0004, 0.0004])
     flags = _flags(modes, np.ones((3, 8)), criteria)
     assert flags[:2] == ["", ""] and flags[4] == ""
-    assert flags[2] == "damping 0.05 % implausible (median 1.5 %)"
-    assert flags[3] == "damping 10 % implausible (median 1.5 %)"
+    assert flags[2] == "damping 0.05 % implausibly low (median 1.5 %)"
+    assert flags[3] == "damping 10 % implausibly high (median 1.5 %)"
     heavy = mode_table([1.0] * 3, [1.0] * 3, [0.1, 0.15, 0.2])
     assert _flags(heavy, np.ones((3, 3)), criteria) == ["", "", ""]
     alone = mode_table([1.0], [1.0], [0.0001])
@@ -242,7 +242,7 @@ def test_a_low_mpc_mode_does_not_set_the_damping_median():
     table, shapes = poles([(2.0, 0.01, A, ORDERS), (5.0, 0.0004, B, ORDERS), (8.0, 0.012, B, ORDERS)])
     table["mpc"][:20] = 0.5
     labels, modes, _, _, _ = _select_modes(table, shapes, modal.StabilityCriteria(), 8)
-    assert modes["flag"].tolist() == ["low MPC 0.50", "damping 0.04 % implausible (median 0.62 %)", ""]
+    assert modes["flag"].tolist() == ["low MPC 0.50", "damping 0.04 % implausibly low (median 0.62 %)", ""]
 
 
 def test_the_new_criteria_are_checked_naming_the_argument():
@@ -509,7 +509,7 @@ def test_modes_of_mpc_exactly_at_the_threshold_set_the_damping_median():
     6 % modes are 6 x above it and flagged for damping too."""
     modes = mode_table([0.7, 0.7, 0.3, 0.3], [1.0] * 4, [0.01, 0.01, 0.06, 0.06])
     flags = _flags(modes, np.ones((3, 4)), modal.StabilityCriteria())
-    assert flags == ["", ""] + ["low MPC 0.30; damping 6 % implausible (median 1 %)"] * 2
+    assert flags == ["", ""] + ["low MPC 0.30; damping 6 % implausibly high (median 1 %)"] * 2
 
 
 def test_a_pole_just_beyond_the_shape_scatter_leaves():
@@ -593,7 +593,7 @@ def test_damping_bounds_and_the_share_are_inclusive():
     channel's share exactly 0.95 (361 of 380) is 'single channel'."""
     criteria = modal.StabilityCriteria()
     two = mode_table([1.0, 1.0], [1.0, 1.0], [0.01, 0.0001])
-    assert _flags(two, np.ones((3, 2)), criteria)[1].startswith("damping 0.01 % implausible")
+    assert _flags(two, np.ones((3, 2)), criteria)[1].startswith("damping 0.01 % implausibly low")
     edges = mode_table([1.0] * 4, [1.0] * 4, [0.05, 0.05, 0.01, 0.25])
     assert _flags(edges, np.ones((3, 4)), criteria) == ["", "", "", ""]
     modes = mode_table([1.0], [1.0], [0.01])
@@ -614,7 +614,7 @@ def test_notes_name_doubtful_modes_second_estimates_and_lists():
     assert notes == (
         "mode 1 (2 Hz) has a second estimate at 2.002 Hz, damping 2 %: a cluster of the same shape at the same "
         "orders, one physical mode",
-        "mode 2 (5 Hz) is doubtful: damping 0.04 % implausible (median 0.52 %) (kept in the modes table with its flag)",
+        "mode 2 (5 Hz) is doubtful: damping 0.04 % implausibly low (median 0.52 %) (kept in the modes table with its flag)",
         "not selected, too few poles (a mode needs 8, the orders computed and fmax set how many): 7 Hz (5 poles), "
         "8 Hz (5 poles)",
         "not selected, above fmax = 10 Hz: 12 Hz (20 poles), 13 Hz (20 poles)")

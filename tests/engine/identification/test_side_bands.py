@@ -159,7 +159,7 @@ def test_flags_join_the_side_band_to_the_other_reasons():
     flags = _flags(modes, np.ones((1, 8)), modal.StabilityCriteria(), one_channel)
     assert flags[1] == "low MAMC 0.86; side band of 41.38 Hz by 6.617 Hz"
     assert flags[5] == "side band of 116.9 Hz by 6.617 Hz"
-    assert flags[4] == "damping 3.3 % implausible (median 0.32 %)"
+    assert flags[4] == "damping 3.3 % implausibly high (median 0.32 %)"
     assert flags[0] == flags[2] == flags[6] == ""
     doubted = modes.assign(mpc=[0.3] + [1.0] * 7)
     assert _flags(doubted, np.ones((1, 8)), modal.StabilityCriteria(), one_channel)[5] == ""

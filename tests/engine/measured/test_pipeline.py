@@ -244,12 +244,65 @@ def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
     witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=shadow), details["spectrum"])
     assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
     # the first mode flagged for another reason: the trusted copy keeps the peak, the resonance a trusted row
-    doubtful = bare.assign(flag=["damping 5.2 % implausible"] + list(modes["flag"].iloc[1:]) + [""])
+    doubtful = bare.assign(flag=["damping 0.05 % implausibly low (median 1 %)"] + list(modes["flag"].iloc[1:]) + [""])
     witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=doubtful), details["spectrum"])
     copied = f"{copy['freq_hz'].iloc[0]:.4g}"
     assert witnessed.modes["flag"].iloc[3] == ""
-    assert witnessed.modes["flag"].iloc[0].startswith("damping 5.2 % implausible")
+    assert witnessed.modes["flag"].iloc[0].startswith("damping 0.05 % implausibly low (median 1 %)")
     assert f"same spectral peak as {copied} Hz (MAC 1.000)" in witnessed.modes["flag"].iloc[0]
+
+
+def test_a_heavily_damped_mode_with_its_own_peak_is_trusted():
+    """The beam's three modes damped 1, 8 and 1.2 %: the second lies more
+    than ``damping_factor`` = 5 times above the record's median damping,
+    but its broad resonance is a peak of the singular values of its own, so
+    it is trusted, at its damping (EFDD agrees); the others too."""
+    from ..cases import _foh_acceleration
+
+    omega, shapes, zeta, dt = BEAM.natural_frequencies(3), BEAM.mode_shapes(SENSORS_X, 3), [0.01, 0.08, 0.012], 0.01
+    force = np.random.default_rng(1).standard_normal((40000, 3))
+    acc = np.column_stack([_foh_acceleration(w, z, f, dt) for w, z, f in zip(omega, zeta, force.T)]) @ shapes.T
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=40, fmax=omega[2] / (2 * np.pi) * 1.3)
+    modes = result.modes
+    assert modes["flag"].tolist() == ["", "", ""]
+    np.testing.assert_allclose(modes["freq_hz"], omega / (2 * np.pi), rtol=0.005)
+    np.testing.assert_allclose(modes["damping"], zeta, rtol=0.25)
+    assert modes["damping"].iloc[1] > modal.StabilityCriteria().damping_factor * np.median(modes["damping"])
+    np.testing.assert_allclose(modes["efdd_damping"].iloc[1], zeta[1], rtol=0.25)
+
+
+def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
+    """The witness takes ``damping ... implausibly high`` back from a mode
+    with a singular-value peak of its own (a heavily damped real mode) and
+    from no other: a mode between the beam's first two, where the spectrum
+    has no peak, keeps it; an implausibly low damping stays (a harmonic's
+    peak is sharp); other reasons stay. A mode so cleared is trusted, so it
+    keeps its peak over a copy of its shape that is farther from it."""
+    import dataclasses
+
+    acc, dt, f_exact = ambient_beam()
+    details = {}
+    result, _ = modal.identify_record(acc, dt, "ambient", max_order=40, fmax=f_exact[2] * 1.3, details=details)
+    modes = result.modes
+    high, low = "damping 6 % implausibly high (median 1 %)", "damping 0.05 % implausibly low (median 1 %)"
+    between = modes.iloc[[0]].assign(mode=4, freq_hz=np.sqrt(f_exact[0] * f_exact[1]), damping=0.01)
+    four = dataclasses.replace(result, modes=pd.concat([modes, between], ignore_index=True),
+                               shapes=np.column_stack([result.shapes, result.shapes[:, 0]]),
+                               complex_shapes=np.column_stack([result.complex_shapes, result.complex_shapes[:, 0]]))
+    bare = four.modes.drop(columns=[c for c in four.modes.columns if c.startswith("sv_") or c.startswith("efdd")
+                                    or c == "spectral_support"])
+    flagged = bare.assign(flag=[high, f"low MPC 0.50; {high}", low, high])
+    witnessed = modal.measured.with_spectral_witness(dataclasses.replace(four, modes=flagged), details["spectrum"])
+    assert witnessed.modes["spectral_support"].tolist() == [True, True, True, False]
+    assert witnessed.modes["flag"].tolist() == ["", "low MPC 0.50", low, f"{high}; no spectral peak"]
+    # the first mode cleared of its damping is trusted: it keeps its peak over a farther copy of its shape
+    copy = modes.iloc[[0]].assign(mode=4, n_poles=int(modes["n_poles"].iloc[0]) + 5,
+                                  freq_hz=modes["freq_hz"].iloc[0] * (1 + 0.3 * modes["damping"].iloc[0]))
+    doubled = dataclasses.replace(four, modes=pd.concat([bare.iloc[:3], copy[bare.columns]], ignore_index=True))
+    doubled = dataclasses.replace(doubled, modes=doubled.modes.assign(flag=[high, "", "", ""]))
+    witnessed = modal.measured.with_spectral_witness(doubled, details["spectrum"])
+    assert witnessed.modes["flag"].iloc[0] == ""
+    assert witnessed.modes["flag"].iloc[3].startswith(f"same spectral peak as {modes['freq_hz'].iloc[0]:.4g} Hz")
 
 
 def test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay():
