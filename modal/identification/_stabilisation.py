@@ -910,6 +910,12 @@ def _side_bands(freq, damping, n_poles, mode_mac, trusted, mac_min) -> list[str]
     return flags
 
 
+def doubtful_note(number, freq_hz, flag) -> str:
+    """The sentence of a log that names a doubtful mode and its reasons
+    (:attr:`Stabilisation.notes`)."""
+    return f"mode {number} ({freq_hz:.4g} Hz) is doubtful: {flag} (kept in the modes table with its flag)"
+
+
 def _notes(modes, candidates, above, fmax) -> tuple:
     """The selection's decisions as sentences for a log (:attr:`Stabilisation.notes`)."""
     notes = []
@@ -917,8 +923,7 @@ def _notes(modes, candidates, above, fmax) -> tuple:
     for number, freq_hz, flag, second_freq_hz, second_damping in zip(
             modes["mode"], modes["freq_hz"], modes["flag"], modes["second_freq_hz"], modes["second_damping"]):
         if flag:
-            notes.append(f"mode {number} ({freq_hz:.4g} Hz) is doubtful: {flag} "
-                         "(kept in the modes table with its flag)")
+            notes.append(doubtful_note(number, freq_hz, flag))
         if np.isfinite(second_freq_hz):
             notes.append(f"mode {number} ({freq_hz:.4g} Hz) has a second estimate at "
                          f"{second_freq_hz:.4g} Hz, damping {100 * second_damping:.2g} %: a cluster "

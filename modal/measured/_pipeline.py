@@ -518,13 +518,13 @@ def identify_record(
     log(f"stabilisation: orders 2 ... {max_order}, {rows} block rows")
     result = stabilisation(data, dt, max_order, rows, cols=cols, start=start, fmax=fmax, criteria=criteria,
                            progress=progress, quantities=options.quantities, segments=segments)
-    for note in result.notes:  # the selection's decisions: doubtful modes, second estimates, what it left out
-        log(note)
     spectrum = fdd(y if excitation == "ambient" else y[start:], dt)
     log(f"spectral witness: singular values of the spectral density matrix (Welch, {spectrum.nperseg}-sample "
         f"segments, {spectrum.df:.3g} Hz resolution)")
     onset = None if excitation == "ambient" else onset_spectrum(y[start:], dt, spectrum.nperseg)
     result = with_spectral_witness(result, spectrum, quantities=options.quantities, onset=onset)
+    for note in result.notes:  # the selection's decisions (doubtful modes, second estimates, what it left out)
+        log(note)  # after the witness, which may vouch for a damping the selection doubted
     if chosen["decimation"] >= 2:
         result = with_filter_check(result, chosen["decimation"], dt)
     if excitation == "ambient":  # a decay's amplitude decays, a harmonic's and a random mode's do not
@@ -631,6 +631,28 @@ def _without_reasons(flags: pd.Series, marker: str, where) -> pd.Series:
     return pd.Series(kept, index=flags.index, dtype=flags.dtype)
 
 
+def _vouched_notes(notes, modes: pd.DataFrame, before: pd.Series) -> tuple:
+    """The selection's ``notes`` with the sentence of each mode whose flag
+    changed from ``before`` to ``modes["flag"]`` (a damping the spectral
+    witness vouched for) rewritten: doubtful for the reasons left, or
+    trusted and why."""
+    from ..identification import doubtful_note
+
+    notes = list(notes)
+    for number, freq_hz, damping, peak_hz, old, new in zip(
+            modes["mode"], modes["freq_hz"], modes["damping"], modes["sv_peak_hz"], _flag_texts(before),
+            _flag_texts(modes["flag"])):
+        if old == new:
+            continue
+        said = doubtful_note(number, freq_hz, old)
+        now = doubtful_note(number, freq_hz, new) if new else (
+            f"mode {number} ({freq_hz:.4g} Hz): its damping {100 * damping:.2g} % lies above the record's other "
+            f"modes', but its own singular-value peak at {peak_hz:.4g} Hz vouches for it (a heavily damped mode: "
+            "trusted)")
+        notes = [now if note == said else note for note in notes]
+    return tuple(notes)
+
+
 def onset_spectrum(decay, dt, nperseg):
     """The singular-value spectrum of a free decay with its first Welch
     segment centred on the impact: ``decay`` (from its start) after
@@ -702,13 +724,16 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     modes = _with_columns(modes, support)
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
-        modes["flag"] = _without_reasons(modes["flag"], DAMPED_ABOVE, supported)
+        before = modes["flag"]
+        modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
+        notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])
         shadows = np.array([flag.startswith(SAME_SHAPE) for flag in flags], dtype=bool)
         shared = shared_peaks(freq_hz, support, identified, modes["n_poles"], SHARED_PEAK_MAC, shadows,
                               doubtful=np.array([flag != "" for flag in flags], dtype=bool) & ~shadows)
         lacking = [NO_SPECTRAL_PEAK if not found else "" for found in supported]
         modes["flag"] = _with_reasons(modes["flag"], lacking, shared)
+        return dataclasses.replace(result, modes=modes, notes=notes)
     return dataclasses.replace(result, modes=modes)
 
 

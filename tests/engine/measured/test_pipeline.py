@@ -277,8 +277,11 @@ def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
     from no other: a mode between the beam's first two, where the spectrum
     has no peak, keeps it; an implausibly low damping stays (a harmonic's
     peak is sharp); other reasons stay. A mode so cleared is trusted, so it
-    keeps its peak over a copy of its shape that is farther from it."""
+    keeps its peak over a copy of its shape that is farther from it; the
+    notes say which and why."""
     import dataclasses
+
+    from modal.identification import doubtful_note
 
     acc, dt, f_exact = ambient_beam()
     details = {}
@@ -291,10 +294,18 @@ def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
                                complex_shapes=np.column_stack([result.complex_shapes, result.complex_shapes[:, 0]]))
     bare = four.modes.drop(columns=[c for c in four.modes.columns if c.startswith("sv_") or c.startswith("efdd")
                                     or c == "spectral_support"])
-    flagged = bare.assign(flag=[high, f"low MPC 0.50; {high}", low, high])
-    witnessed = modal.measured.with_spectral_witness(dataclasses.replace(four, modes=flagged), details["spectrum"])
+    flags = [high, f"low MPC 0.50; {high}", low, high]
+    said = tuple(doubtful_note(n, f, flag) for n, f, flag in zip(bare["mode"], bare["freq_hz"], flags)) + ("other",)
+    flagged = dataclasses.replace(four, modes=bare.assign(flag=flags), notes=said)
+    witnessed = modal.measured.with_spectral_witness(flagged, details["spectrum"])
     assert witnessed.modes["spectral_support"].tolist() == [True, True, True, False]
     assert witnessed.modes["flag"].tolist() == ["", "low MPC 0.50", low, f"{high}; no spectral peak"]
+    # the log and the report say so: mode 1 trusted for its peak, mode 2 doubtful for what is left, the rest as said
+    peak = witnessed.modes["sv_peak_hz"].iloc[0]
+    assert witnessed.notes[0] == (f"mode 1 ({bare['freq_hz'].iloc[0]:.4g} Hz): its damping {100 * bare['damping'].iloc[0]:.2g} "
+                                  f"% lies above the record's other modes', but its own singular-value peak at "
+                                  f"{peak:.4g} Hz vouches for it (a heavily damped mode: trusted)")
+    assert witnessed.notes[1:] == (doubtful_note(2, bare["freq_hz"].iloc[1], "low MPC 0.50"),) + said[2:]
     # the first mode cleared of its damping is trusted: it keeps its peak over a farther copy of its shape
     copy = modes.iloc[[0]].assign(mode=4, n_poles=int(modes["n_poles"].iloc[0]) + 5,
                                   freq_hz=modes["freq_hz"].iloc[0] * (1 + 0.3 * modes["damping"].iloc[0]))
