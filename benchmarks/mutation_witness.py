@@ -13,7 +13,9 @@ function of ``modal/identification/_fdd.py``: the singular-value spectrum
 ``refined_hz``, ``supporting_peak``), the enhanced FDD (``efdd``,
 ``_efdd``, ``_window_correlation``), the support check
 (``support_tolerance_hz``, ``spectral_support``), two modes on one peak
-(``shared_peaks``) and ``auto_mac``.
+(``shared_peaks``) and ``auto_mac``; and of ``modal/measured/_pipeline.py``
+the witness of a record (``with_spectral_witness``, ``onset_spectrum``)
+with the damping it vouches for (``_without_reasons``, ``_vouched_notes``).
 """
 
 from __future__ import annotations
@@ -28,13 +30,27 @@ SOURCE = "modal/identification/_fdd.py"
 FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "supporting_peak", "fdd", "efdd", "_window_correlation", "_efdd",
              "support_tolerance_hz", "spectral_support", "shared_peaks", "auto_mac")  # not the module's constants
 
-machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS]
+PIPELINE = "modal/measured/_pipeline.py"
+PIPELINE_FUNCTIONS = ("with_spectral_witness", "onset_spectrum", "_without_reasons", "_vouched_notes")
+PIPELINE_TESTS = "tests/engine/measured/test_pipeline.py::"
+
+machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS] + [(PIPELINE, name) for name in PIPELINE_FUNCTIONS]
 machinery.TESTS = {"_fdd.py": [  # the quickest first
     "tests/engine/identification/test_fdd.py",
     "tests/engine/measured/test_pipeline.py::test_spectral_witness_compares_shapes_in_each_channels_quantity",
     "tests/engine/measured/test_pipeline.py::test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
     "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks",
-    "tests/engine/measured/test_report.py::test_mac_csv_is_the_auto_mac_of_the_complex_shapes"]}
+    "tests/engine/measured/test_report.py::test_mac_csv_is_the_auto_mac_of_the_complex_shapes"],
+    "_pipeline.py": [PIPELINE_TESTS + t for t in (
+        "test_the_witness_carries_each_entry_into_its_channels_quantity_by_the_damped_pole",
+        "test_a_free_decays_onset_spectrum_supports_a_mode_within_its_half_power_band",
+        "test_the_onset_spectrums_first_window_peaks_at_the_impact",
+        "test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping",
+        "test_a_heavily_damped_mode_with_its_own_peak_is_trusted",
+        "test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
+        "test_spectral_witness_compares_shapes_in_each_channels_quantity",
+        "test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay")] + [
+        "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks"]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_witness_equivalent.txt"
 
 if __name__ == "__main__":

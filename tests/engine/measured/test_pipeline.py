@@ -203,6 +203,99 @@ def test_spectral_witness_compares_shapes_in_each_channels_quantity():
     assert upper["spectral_support"] and upper["sv_mac"] > 0.999
 
 
+def _one_peak_spectrum(freq_hz, vector, df=0.05, zeta=0.02, n_freq=400):
+    """A singular-value spectrum with one peak, a half-power bell of
+    damping ``zeta`` at ``freq_hz``, whose first singular vector is
+    ``vector`` at every frequency (the second far below)."""
+    f = df * np.arange(n_freq)
+    bell = 1 / ((1 - (f / freq_hz) ** 2) ** 2 + (2 * zeta * f / freq_hz) ** 2)
+    values = np.column_stack([bell, 1e-6 * np.ones(n_freq)])
+    vector = np.asarray(vector, dtype=complex) / np.linalg.norm(vector)
+    other = np.linalg.svd(vector[None, :].conj())[2][1].conj()  # a unit vector orthogonal to it
+    vectors = np.stack([np.tile(vector, (n_freq, 1)), np.tile(other, (n_freq, 1))], axis=2)
+    return modal.SingularValueSpectrum(f, values, vectors, nperseg=int(round(1 / (df * 0.01))))
+
+
+def _one_mode(freq_hz, damping, shape, index=(0,), flag=None):
+    """A Stabilisation of one mode (only what the witness reads)."""
+    from modal.identification._stabilisation import Stabilisation
+
+    modes = pd.DataFrame({"mode": [1], "freq_hz": [freq_hz], "damping": [damping], "n_poles": [20]}, index=list(index))
+    if flag is not None:
+        modes["flag"] = [flag]
+    shape = np.asarray(shape, dtype=complex)[:, None]
+    return Stabilisation(modes, shape.real, pd.DataFrame(), np.empty((0, 0)), np.empty(0), np.empty(0), np.empty(0),
+                         complex_shapes=shape)
+
+
+def test_the_witness_carries_each_entry_into_its_channels_quantity_by_the_damped_pole():
+    """A mode of 8 % damping at 4 Hz, shape ``phi`` in the first channel's
+    quantity (a velocity), the channels velocity, displacement and
+    acceleration: the spectrum's vector is ``phi_c s^(k_c - k_0)`` with
+    ``s = 2 pi f (-zeta + i sqrt(1 - zeta^2))``, so the MAC is 1 to
+    round-off; the undamped pole's phase or another magnitude would not
+    give it (MAC 0.9939 with ``+zeta``). The witness's columns come last,
+    a modes table's own index is kept, and a table without ``flag`` gets
+    none."""
+    f, zeta = 4.0, 0.08
+    phi = np.array([1.0, 0.5 - 0.2j, -0.7 + 0.1j])
+    s = 2 * np.pi * f * (-zeta + 1j * np.sqrt(1 - zeta**2))
+    spectrum = _one_peak_spectrum(f, phi * s ** np.array([0, -1, 1]))
+    witnessed = modal.measured.with_spectral_witness(_one_mode(f, zeta, phi, index=(7,)), spectrum,
+                                                     quantities=["velocity", "displacement", "acceleration"])
+    modes = witnessed.modes
+    assert modes.index.tolist() == [7] and "flag" not in modes
+    assert modes.columns.tolist()[-6:] == ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz",
+                                           "efdd_damping"]
+    assert bool(modes["spectral_support"].iloc[0]) and modes["sv_number"].iloc[0] == 1
+    assert modes["sv_mac"].iloc[0] == pytest.approx(1.0, abs=1e-12)
+    undamped_phase = phi * np.conj(s) ** np.array([0, -1, 1]) * -1
+    assert modal.mac(undamped_phase[:, None], (phi * s ** np.array([0, -1, 1]))[:, None])[0, 0] < 0.995
+
+
+def test_a_free_decays_onset_spectrum_supports_a_mode_within_its_half_power_band():
+    """A mode the record's spectrum has no peak for (its peak lies at 10 Hz,
+    the mode at 4 Hz) is judged on the onset spectrum: there a peak 0.15 Hz
+    (3 bins) away supports it when its damping of 5 % (half-width 0.2 Hz)
+    is taken into the tolerance, and not at two bins without it; its flag
+    keeps its other reasons and no ``no spectral peak``."""
+    phi = np.array([1.0, -0.4, 0.8])
+    record = _one_peak_spectrum(10.0, phi)
+    onset = _one_peak_spectrum(4.15, phi, zeta=0.05)
+    witnessed = modal.measured.with_spectral_witness(_one_mode(4.0, 0.05, phi, index=(3,), flag="low MAMC 0.90"),
+                                                     record, onset=onset)
+    assert witnessed.modes.index.tolist() == [3]
+    assert bool(witnessed.modes["spectral_support"].iloc[0])
+    assert witnessed.modes["sv_peak_hz"].iloc[0] == pytest.approx(4.15, abs=0.05)
+    assert witnessed.modes["flag"].iloc[0] == "low MAMC 0.90"
+    alone = modal.measured.with_spectral_witness(_one_mode(4.0, 0.05, phi, flag="low MAMC 0.90"), record)
+    assert alone.modes["flag"].iloc[0] == "low MAMC 0.90; no spectral peak"
+
+
+def test_the_onset_spectrums_first_window_peaks_at_the_impact():
+    """An impulse (a decay that is over at once) weighs most in Welch's
+    average where a Hann window is at its peak, the middle of a segment:
+    of the impulse placed at every sample of the first two segments of a
+    record as long as the padded decay, the onset spectrum's level is the
+    highest (the impulse at sample ``nperseg // 2``), in segments of the
+    ``nperseg`` asked, flat over frequency above the lowest bins."""
+    from modal.measured import onset_spectrum
+
+    nperseg, dt = 64, 0.01
+    decay = np.zeros((4000, 1))  # fdd's own segments would be longer
+    decay[0] = 1.0
+    onset = onset_spectrum(decay, dt, nperseg)
+    assert onset.nperseg == nperseg and len(onset.freq_hz) == nperseg // 2 + 1
+    np.testing.assert_allclose(onset.values[3:-1, 0], onset.values[3, 0], rtol=1e-9)  # not DC, its neighbours, Nyquist
+    levels = []
+    for k in range(2 * nperseg):
+        record = np.zeros((4000 + nperseg // 2, 1))
+        record[k] = 1.0
+        levels.append(modal.fdd(record, dt, nperseg=nperseg).values[5, 0])
+    assert int(np.argmax(levels)) == nperseg // 2
+    assert onset.values[5, 0] == pytest.approx(max(levels), rel=1e-9)
+
+
 def test_no_vibration_judges_each_channel_against_its_largest_magnitude():
     """A channel's content after detrending is judged against its largest
     magnitude, negative values included: a vibration of 1e-12 on an offset
@@ -278,7 +371,7 @@ def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
     has no peak, keeps it; an implausibly low damping stays (a harmonic's
     peak is sharp); other reasons stay. A mode so cleared is trusted, so it
     keeps its peak over a copy of its shape that is farther from it; the
-    notes say which and why."""
+    notes say which and why (mode 1's unchanged before the others')."""
     import dataclasses
 
     from modal.identification import doubtful_note
@@ -294,18 +387,19 @@ def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
                                complex_shapes=np.column_stack([result.complex_shapes, result.complex_shapes[:, 0]]))
     bare = four.modes.drop(columns=[c for c in four.modes.columns if c.startswith("sv_") or c.startswith("efdd")
                                     or c == "spectral_support"])
-    flags = [high, f"low MPC 0.50; {high}", low, high]
+    flags = [low, f"low MPC 0.50; {high}; low MAMC 0.90", high, high]
     said = tuple(doubtful_note(n, f, flag) for n, f, flag in zip(bare["mode"], bare["freq_hz"], flags)) + ("other",)
     flagged = dataclasses.replace(four, modes=bare.assign(flag=flags), notes=said)
     witnessed = modal.measured.with_spectral_witness(flagged, details["spectrum"])
     assert witnessed.modes["spectral_support"].tolist() == [True, True, True, False]
-    assert witnessed.modes["flag"].tolist() == ["", "low MPC 0.50", low, f"{high}; no spectral peak"]
-    # the log and the report say so: mode 1 trusted for its peak, mode 2 doubtful for what is left, the rest as said
-    peak = witnessed.modes["sv_peak_hz"].iloc[0]
-    assert witnessed.notes[0] == (f"mode 1 ({bare['freq_hz'].iloc[0]:.4g} Hz): its damping {100 * bare['damping'].iloc[0]:.2g} "
-                                  f"% lies above the record's other modes', but its own singular-value peak at "
-                                  f"{peak:.4g} Hz vouches for it (a heavily damped mode: trusted)")
-    assert witnessed.notes[1:] == (doubtful_note(2, bare["freq_hz"].iloc[1], "low MPC 0.50"),) + said[2:]
+    assert witnessed.modes["flag"].tolist() == [low, "low MPC 0.50; low MAMC 0.90", "", f"{high}; no spectral peak"]
+    # the log and the report say so: mode 3 trusted for its peak, mode 2 doubtful for what is left, the rest as said
+    peak = witnessed.modes["sv_peak_hz"].iloc[2]
+    assert witnessed.notes == (said[0], doubtful_note(2, bare["freq_hz"].iloc[1], "low MPC 0.50; low MAMC 0.90"),
+                               f"mode 3 ({bare['freq_hz'].iloc[2]:.4g} Hz): its damping "
+                               f"{100 * bare['damping'].iloc[2]:.2g} % lies above the record's other modes', but its "
+                               f"own singular-value peak at {peak:.4g} Hz vouches for it (a heavily damped mode: "
+                               "trusted)") + said[3:]
     # the first mode cleared of its damping is trusted: it keeps its peak over a farther copy of its shape
     copy = modes.iloc[[0]].assign(mode=4, n_poles=int(modes["n_poles"].iloc[0]) + 5,
                                   freq_hz=modes["freq_hz"].iloc[0] * (1 + 0.3 * modes["damping"].iloc[0]))
