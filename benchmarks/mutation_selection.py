@@ -24,6 +24,7 @@ import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_stabilisation.py"
 FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_side_bands", "_notes",
+             "doubtful_note",
              "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std")
 TRUST = "tests/engine/identification/test_selection_trust.py"
 STAB = "tests/engine/identification/test_stabilisation.py::"
