@@ -468,7 +468,7 @@ def main(argv=None) -> int:
         args.json.write_text(json.dumps(verdicts, indent=1))
     print(f"\n{len(verdicts)} mutants in {time.monotonic() - started:.0f} s: {killed} killed "
           f"({sum(v == 'timeout' for v in verdicts.values())} by the timeout, {len(errors)} by an error before "
-          f"any test ran, e.g. at import), {len(eq)} equivalent (benchmarks/mutation_campaign_equivalent.txt), "
+          f"any test ran, e.g. at import), {len(eq)} equivalent ({EQUIVALENT.relative_to(ROOT)}), "
           f"{len(gaps)} survived")
     print(f"killed {killed} of {counted} non-equivalent mutants: {100 * killed / max(counted, 1):.1f} %")
     for k in gaps:

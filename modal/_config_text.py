@@ -1,9 +1,10 @@
 """Configuration files read as data, never as code: the campaign file and the
 workflow's config files are refused before they are used when they are not
-plain YAML data (a yte template, an alias bomb, a key given twice).
+plain YAML data (a yte template, an alias, a key given twice).
 
 YAML's own loaders keep the last of two equal keys and expand aliases
-without bound, and Snakemake evaluates a config that sets ``__use_yte__`` as
+without bound (an "alias bomb" expands a dozen lines into billions of
+values), and Snakemake evaluates a config that sets ``__use_yte__`` as
 a template (Python); :func:`check_config_text` reads the raw text without
 evaluating or expanding anything, :func:`load_strict` then reads the data.
 """
@@ -14,12 +15,11 @@ import os
 
 import yaml
 
-#: A config is a page of settings: larger files, and YAML aliases beyond these
-#: (an alias bomb expands a few lines into billions of nodes), are refused
-#: before the file is read as data.
+#: A config is a page of settings: larger files are refused before the file
+#: is read as data. So is any YAML alias (``*name``): a value is written
+#: where it is used, so that each key reads as it is and no alias bomb can
+#: be expanded.
 MAX_CONFIG_BYTES = 1_000_000
-MAX_ALIASES = 100
-MAX_CONFIG_NODES = 100_000
 #: PyYAML's safe loader, its C (libyaml) build where installed (the wheels
 #: carry it): the same documents, read several times faster. Every job of the
 #: workflow reads its config files again.
@@ -93,8 +93,7 @@ def load_strict(path) -> dict:
 def check_config_text(path) -> None:
     """Refuse a config file that is not plain data, reading its raw text
     (nothing evaluated, no alias expanded): larger than
-    :data:`MAX_CONFIG_BYTES`, more than :data:`MAX_ALIASES` aliases or
-    :data:`MAX_CONFIG_NODES` nodes once expanded, a yte key
+    :data:`MAX_CONFIG_BYTES`, holding a YAML alias (``*name``), a yte key
     (``__use_yte__``, ...) or a string starting with ``?`` (which yte, the
     template engine Snakemake applies to a config setting ``__use_yte__:
     true``, would evaluate as Python).
@@ -102,7 +101,7 @@ def check_config_text(path) -> None:
     Raises
     ------
     ValueError
-        Naming the file and the key.
+        Naming the file and the key, or the line of the first alias.
     """
     size = os.stat(path).st_size
     if size > MAX_CONFIG_BYTES:
@@ -110,9 +109,10 @@ def check_config_text(path) -> None:
     with open(path, "rb") as fh:
         text = config_text(path, fh.read())
     try:
-        n_aliases = sum(isinstance(e, yaml.AliasEvent) for e in yaml.parse(text, Loader=SafeLoader))
-        if n_aliases > MAX_ALIASES:
-            raise ValueError(f"{n_aliases} YAML aliases (*name), more than {MAX_ALIASES}: write the values out")
+        alias = next((e for e in yaml.parse(text, Loader=SafeLoader) if isinstance(e, yaml.AliasEvent)), None)
+        if alias is not None:
+            raise ValueError(f"line {alias.start_mark.line + 1}: YAML alias *{alias.anchor}: a config is plain "
+                             "data, aliases are refused: write the value out where it is used")
         root = yaml.compose(text, Loader=SafeLoader)
     except yaml.YAMLError as exc:
         raise ValueError(f"config file {path}: not valid YAML: {exc}") from None
@@ -120,13 +120,9 @@ def check_config_text(path) -> None:
         raise ValueError(f"config file {path}: {exc}") from None
     if root is None:
         return
-    # Each node once (an alias points to a node already seen): linear in the text.
-    sizes, seen, stack = {}, set(), [(root, "")]
+    stack = [(root, "")]  # a tree (no alias): each node once
     while stack:
         node, key = stack.pop()
-        if id(node) in seen:
-            continue
-        seen.add(id(node))
         if isinstance(node, yaml.ScalarNode):
             text_value = str(node.value)
             if text_value in YTE_KEYS or text_value.startswith("?"):
@@ -140,23 +136,3 @@ def check_config_text(path) -> None:
                 stack += [(k, name), (v, name)]
         elif isinstance(node, yaml.SequenceNode):
             stack += [(v, f"{key}[{i}]") for i, v in enumerate(node.value)]
-    if _expanded_nodes(root, sizes) > MAX_CONFIG_NODES:
-        raise ValueError(f"config file {path}: more than {MAX_CONFIG_NODES} values once its aliases are expanded")
-
-
-def _expanded_nodes(node, sizes) -> int:
-    """Nodes of ``node`` with every alias expanded, each shared node counted
-    once per use but computed once (``sizes`` memoises; iterative)."""
-    stack = [(node, False)]
-    while stack:
-        current, done = stack.pop()
-        if id(current) in sizes:
-            continue
-        children = ([x for pair in current.value for x in pair] if isinstance(current, yaml.MappingNode)
-                    else list(current.value) if isinstance(current, yaml.SequenceNode) else [])
-        if done:
-            sizes[id(current)] = 1 + sum(sizes[id(c)] for c in children)
-        else:
-            stack.append((current, True))
-            stack += [(c, False) for c in children if id(c) not in sizes]
-    return sizes[id(node)]

@@ -61,6 +61,8 @@ SUPPORT_BANDWIDTHS = 4.0
 #: in simulated records, where the selection's 0.98 let them pass); two
 #: modes of one peak with shapes of their own (close modes) lie far below.
 SHARED_PEAK_MAC = 0.9
+#: How :func:`shared_peaks`' reason starts (``same spectral peak as 9.72 Hz (MAC 0.990)``).
+SHARED_PEAK = "same spectral peak as"
 #: Columns of :func:`spectral_support`.
 SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz", "efdd_damping"]
 #: EFDD: the single-degree-of-freedom bell of a peak is the band around it
@@ -477,7 +479,7 @@ def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shado
         stronger = [j for j in range(len(support)) if j != k and taking_part[j] and taking_part[k]
                     and number[j] == number[k] and peak[j] == peak[k] and alike[j, k] >= mac_min and rank(j) > rank(k)]
         j = max(stronger, key=rank, default=None)
-        reasons.append("" if j is None else f"same spectral peak as {freq_hz[j]:.4g} Hz (MAC {alike[j, k]:.3f})")
+        reasons.append("" if j is None else f"{SHARED_PEAK} {freq_hz[j]:.4g} Hz (MAC {alike[j, k]:.3f})")
     return reasons
 
 

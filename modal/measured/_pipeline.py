@@ -576,7 +576,7 @@ def with_filter_check(result: Stabilisation, factor, dt) -> Stabilisation:
     at_pole = (np.abs(freq / pole_hz - 1) < pole_zeta) & (damping >= pole_zeta / 2) & (damping <= 2 * pole_zeta)
     reason = f"{FILTER_POLE} ({pole_hz:.4g} Hz, {100 * pole_zeta:.2g} %)"
     modes = modes.copy()
-    modes["flag"] = _with_reasons(modes["flag"], [reason if hit else "" for hit in at_pole])
+    modes["flag"] = _with_reasons(_without_reasons(modes["flag"], FILTER_POLE), [reason if hit else "" for hit in at_pole])
     return dataclasses.replace(result, modes=modes)
 
 
@@ -598,7 +598,7 @@ def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:
                                    modes["damping"].to_numpy(dtype=float), result.shapes)
     modes = _with_columns(modes, variation)
     if "flag" in modes:
-        modes["flag"] = _with_reasons(modes["flag"], [f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""
+        modes["flag"] = _with_reasons(_without_reasons(modes["flag"], HARMONIC), [f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""
                                                       for h, cv in zip(steady(variation), variation["envelope_cv"])])
     return dataclasses.replace(result, modes=modes)
 
@@ -623,9 +623,12 @@ def _with_reasons(flags: pd.Series, *reasons) -> pd.Series:
                      index=flags.index, dtype=flags.dtype)
 
 
-def _without_reasons(flags: pd.Series, marker: str, where) -> pd.Series:
+def _without_reasons(flags: pd.Series, marker: str, where=None) -> pd.Series:
     """Each mode's ``flag`` without the reasons that contain ``marker``
-    where ``where`` (one bool per mode) holds."""
+    where ``where`` (one bool per mode; None: every mode) holds. A check
+    takes its own reasons away before it adds them, so that applied twice
+    it flags as once."""
+    where = [True] * len(flags) if where is None else where
     kept = [flag if not drop else "; ".join(r for r in flag.split("; ") if marker not in r)
             for flag, drop in zip(_flag_texts(flags), where)]
     return pd.Series(kept, index=flags.index, dtype=flags.dtype)
@@ -702,7 +705,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     a fraction of a Welch segment is judged on the decay's first samples."""
     import dataclasses
 
-    from ..identification import DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK_MAC, shared_peaks, spectral_support
+    from ..identification import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK, SHARED_PEAK_MAC, shared_peaks,
+                                  spectral_support)
 
     modes = result.modes
     identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
@@ -724,7 +728,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     modes = _with_columns(modes, support)
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
-        before = modes["flag"]
+        before = _without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK)  # a witness before
         modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
         notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from .._config_text import (MAX_ALIASES, MAX_CONFIG_BYTES, MAX_CONFIG_NODES, YTE_KEYS, SafeLoader,  # noqa: F401
+from .._config_text import (MAX_CONFIG_BYTES, YTE_KEYS, SafeLoader,  # noqa: F401
                             check_config_text, load_strict)
 from .chunks import study_cases
 

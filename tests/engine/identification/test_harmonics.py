@@ -179,7 +179,8 @@ def test_the_harmonic_check_adds_its_columns_last_and_its_reason_after_the_other
     (a second check replaces them), with the values of envelope_variation;
     the sine (11 correlation times at 0.2 %) gets ``harmonic (envelope CV 0.0x)`` after its own
     reason, joined by ``"; "``, a NaN flag counts as none; the flags keep
-    their index and type. Without a flag column none is added."""
+    their index and type; checked twice, each reason is there once. Without
+    a flag column none is added."""
     from modal.measured._pipeline import with_harmonic_check
 
     y, dt = mode_and_sine()
@@ -187,7 +188,8 @@ def test_the_harmonic_check_adds_its_columns_last_and_its_reason_after_the_other
     modes = pd.DataFrame({"freq_hz": [2.0, 3.0], "damping": [0.01, 0.002], "flag": ["low MPC 0.41", np.nan]},
                          index=[7, 9]).astype({"flag": object})  # not pandas' own str
     once = with_harmonic_check(stabilisation_of(modes, shapes), y, dt)
-    assert list(with_harmonic_check(once, y, dt).modes.columns) == list(once.modes.columns)
+    twice = with_harmonic_check(once, y, dt).modes  # a second check as the first: columns and reasons once
+    assert list(twice.columns) == list(once.modes.columns) and twice["flag"].tolist() == once.modes["flag"].tolist()
     checked = once.modes
     assert list(checked.columns) == ["freq_hz", "damping", "flag", "envelope_cv", "envelope_values"]
     assert checked.index.tolist() == [7, 9] and checked["flag"].dtype == object

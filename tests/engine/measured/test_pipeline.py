@@ -333,6 +333,8 @@ def test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so():
     first = f"{modes['freq_hz'].iloc[0]:.4g}"
     assert witnessed.modes["sv_peak_hz"].iloc[3] == witnessed.modes["sv_peak_hz"].iloc[0]
     assert list(witnessed.modes["flag"]) == list(modes["flag"]) + [f"same spectral peak as {first} Hz (MAC 1.000)"]
+    again = modal.measured.with_spectral_witness(witnessed, details["spectrum"])  # a second witness as the first
+    assert again.modes["flag"].tolist() == witnessed.modes["flag"].tolist()
     shadow = bare.assign(flag=list(modes["flag"]) + [f"same shape as {first} Hz (MAC 1.000)"])
     witnessed = modal.measured.with_spectral_witness(dataclasses.replace(doubled, modes=shadow), details["spectrum"])
     assert witnessed.modes["flag"].iloc[3] == f"same shape as {first} Hz (MAC 1.000)"
@@ -393,6 +395,8 @@ def test_a_mode_with_a_peak_of_its_own_keeps_no_implausibly_high_damping():
     witnessed = modal.measured.with_spectral_witness(flagged, details["spectrum"])
     assert witnessed.modes["spectral_support"].tolist() == [True, True, True, False]
     assert witnessed.modes["flag"].tolist() == [low, "low MPC 0.50; low MAMC 0.90", "", f"{high}; no spectral peak"]
+    again = modal.measured.with_spectral_witness(witnessed, details["spectrum"])  # each reason once, notes as they were
+    assert again.modes["flag"].tolist() == witnessed.modes["flag"].tolist() and again.notes == witnessed.notes
     # the log and the report say so: mode 3 trusted for its peak, mode 2 doubtful for what is left, the rest as said
     peak = witnessed.modes["sv_peak_hz"].iloc[2]
     assert witnessed.notes == (said[0], doubtful_note(2, bare["freq_hz"].iloc[1], "low MPC 0.50; low MAMC 0.90"),
@@ -582,7 +586,9 @@ def test_the_default_decimation_filters_own_pole_is_flagged_not_trusted():
     the modes at 37 and 39 Hz make its Chebyshev filter ring at its pole
     (33.5 Hz, 6.6 %); that ringing is no mode of the structure and is
     flagged, while a structural mode just below the filter's edge (31 Hz,
-    damped 1 %) keeps no such flag."""
+    damped 1 %) keeps no such flag.  Checked again, each flag names it once."""
+    from modal.measured._pipeline import with_filter_check
+
     acc, dt = _modes_near_nyquist()
     result, dt_used = modal.identify_record(acc, dt, "ambient")
     assert dt_used == pytest.approx(5 * dt)
@@ -590,6 +596,8 @@ def test_the_default_decimation_filters_own_pole_is_flagged_not_trusted():
     ringing = modes[(modes["freq_hz"] - 33.2).abs() < 1.0]
     assert len(ringing) and ringing["damping"].between(0.03, 0.1).all()
     assert ringing["flag"].str.contains("anti-aliasing filter's pole (33.52 Hz, 6.6 %)", regex=False).all()
+    again = with_filter_check(result, 5, dt_used).modes["flag"]  # checked again: the reason once
+    assert again.str.count("anti-aliasing filter's pole").tolist() == modes["flag"].str.count("anti-aliasing").tolist()
     trusted = result.trusted_modes["freq_hz"].to_numpy()
     assert not np.any((trusted > 32) & (trusted < 35))
     for f in (1.0, 3.1, 7.3, 12.2, 19.5):
