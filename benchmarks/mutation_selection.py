@@ -25,7 +25,8 @@ import mutation_campaign as machinery  # noqa: E402
 SOURCE = "modal/identification/_stabilisation.py"
 FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_side_bands", "_notes",
              "doubtful_note",
-             "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std")
+             "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std",
+             "matched_eigenvalues")
 TRUST = "tests/engine/identification/test_selection_trust.py"
 STAB = "tests/engine/identification/test_stabilisation.py::"
 MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
@@ -49,6 +50,7 @@ machinery.TESTS = {"_stabilisation.py": [TRUST, "tests/engine/identification/tes
         "test_segments_that_agree_give_no_uncertainty", "test_two_segments_a_percent_apart",
         "test_two_segments_damped_ten_percent_apart", "test_a_segment_without_an_estimate_is_not_counted",
         "test_each_mode_takes_its_own_eigenvalue_when_modes_are_close",
+        "test_each_eigenvalue_of_a_segment_is_one_modes", "test_two_close_modes_take_a_segments_two_eigenvalues",
         "test_segments_that_agree_with_each_other_but_not_with_the_record_give_their_bias",
         "test_each_mode_takes_the_state_matrix_of_its_own_fullest_order",
         "test_a_segment_singular_at_one_order_still_counts_at_the_others")]}

@@ -105,6 +105,53 @@ def test_two_segments_damped_ten_percent_apart():
     assert len(alone) == n and alone[["freq_std_hz", "damping_std"]].isna().all().all()
 
 
+def test_each_eigenvalue_of_a_segment_is_one_modes():
+    """Seeds (the record's poles) 10.0 and 10.2 rad/s, a segment's eigenvalues
+    10.05 and 10.5 rad/s: each seed's nearest alone is 10.05 for both; one to
+    one (least summed distance) the second takes 10.5. Fewer eigenvalues
+    than seeds leave the farther seed NaN; non-finite eigenvalues (ln 0) are
+    none; the conjugates are never taken."""
+    from modal.identification._stabilisation import matched_eigenvalues
+
+    seeds = np.array([-0.1 + 10.0j, -0.1 + 10.2j])
+    eigenvalues = np.array([-0.1 + 10.05j, -0.1 - 10.05j, -0.1 + 10.5j, -0.1 - 10.5j])
+    np.testing.assert_array_equal(matched_eigenvalues(eigenvalues, seeds), [-0.1 + 10.05j, -0.1 + 10.5j])
+    np.testing.assert_array_equal(matched_eigenvalues(eigenvalues[::-1], seeds[::-1]), [-0.1 + 10.5j, -0.1 + 10.05j])
+    lone = matched_eigenvalues([-0.1 + 10.15j, np.nan, complex(-np.inf, 0)], seeds)
+    assert np.isnan(lone[0]) and lone[1] == -0.1 + 10.15j
+    assert np.isnan(matched_eigenvalues([np.nan], seeds)).all() and matched_eigenvalues(eigenvalues, []).size == 0
+
+
+def test_two_close_modes_take_a_segments_two_eigenvalues():
+    """Noise-free free decays of four modes, two of them 2 % apart (2.00 and
+    2.04 Hz, damped 1 %, shapes of their own); the second segment has the
+    pair at 2.015 and 2.07 Hz. Each mode's frequency std is that of its own
+    pair of values, ``|f_b - f_a| / sqrt(2) * t_1(0.975) / 1.96 / sqrt(2)``
+    with the bias ``(f_b - f_a) / 2``: 2.04 Hz takes 2.07 (0.0984 Hz), not
+    the 2.015 nearest it, which 2.00 Hz takes (0.0820 Hz if it did)."""
+    from scipy.stats import t
+
+    def decay(freqs, dt=0.02, n=1500):
+        time, w = np.arange(n) * dt, 2 * np.pi * np.asarray(freqs)
+        waves = np.exp(-np.outer(time, 0.01 * w)) * np.cos(np.outer(time, w * np.sqrt(1 - 0.01**2)))
+        shapes = np.array([[1.0, 0.3, 0.5, 0.2], [0.4, -1.0, 0.3, -0.6], [0.8, 0.9, -1.0, 0.1], [0.2, 0.5, 0.4, 1.0]])
+        return waves @ shapes.T
+
+    def std(f_a, f_b):
+        return np.hypot(abs(f_b - f_a) / np.sqrt(2) * t.ppf(0.975, 1) / 1.96 / np.sqrt(2), (f_b - f_a) / 2)
+
+    a, b = decay([2.0, 2.04, 4.0, 6.0]), decay([2.015, 2.07, 4.0, 6.0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)  # the rank of noise-free data caps the orders
+        modes = modal.stabilisation(a, 0.02, 8, 60, criteria=modal.StabilityCriteria(min_poles=1),
+                                    segments=[a, b]).modes
+    for f_a, f_b in ((2.0, 2.015), (2.04, 2.07)):
+        row = modes.iloc[int(np.argmin(np.abs(modes["freq_hz"] - f_a)))]
+        assert row["freq_hz"] == pytest.approx(f_a, rel=1e-6)
+        assert row["freq_std_hz"] == pytest.approx(std(f_a, f_b), rel=1e-3)
+    assert std(2.04, 2.015) < 0.9 * std(2.04, 2.07)
+
+
 def test_segments_that_agree_with_each_other_but_not_with_the_record_give_their_bias():
     """Three noise-free segments alike, 1 % stiffer in frequency (or 10 %
     more damped) than the record: no scatter, but the split-sample bias
