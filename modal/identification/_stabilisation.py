@@ -573,13 +573,13 @@ def segment_std(segments, p, poles: dict, modes: pd.DataFrame, rows, cols, start
             near = matched_eigenvalues(s, seed_s[modes_n])
             freq[k, modes_n] = np.abs(near) / (2 * np.pi)
             damping[k, modes_n] = -near.real / np.abs(near)
-    from scipy.stats import norm, t
+    from scipy.special import ndtri, stdtrit  # the quantiles of scipy.stats' norm and t, without their overhead
 
     # K per mode: the segments that gave an estimate
     k_est = np.sum(np.isfinite(freq), axis=0)
     known = k_est >= 2
     k = k_est[known]
-    scale = t.ppf(0.975, k - 1) / norm.ppf(0.975) / np.sqrt(k)
+    scale = stdtrit(k - 1, 0.975) / ndtri(0.975) / np.sqrt(k)
     record = seed_s[known]  # the record's own estimate at the same order
     freq_std, damping_std = np.full(n_modes, np.nan), np.full(n_modes, np.nan)
     for out, estimates, own in ((freq_std, freq, np.abs(record) / (2 * np.pi)),
