@@ -31,10 +31,13 @@ FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "supporting_peak", "fdd", 
              "support_tolerance_hz", "spectral_support", "shared_peaks", "auto_mac")  # not the module's constants
 
 PIPELINE = "modal/measured/_pipeline.py"
-PIPELINE_FUNCTIONS = ("with_spectral_witness", "onset_spectrum", "_without_reasons", "_vouched_notes")
+PIPELINE_FUNCTIONS = ("with_spectral_witness", "onset_spectrum", "_without_reasons", "_vouched_notes",
+                      "quadrature_warning")
+INDICATORS = "modal/identification/_indicators.py"  # the channels a derivative apart, which the record's warning names
 PIPELINE_TESTS = "tests/engine/measured/test_pipeline.py::"
 
-machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS] + [(PIPELINE, name) for name in PIPELINE_FUNCTIONS]
+machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS] + [(PIPELINE, name) for name in PIPELINE_FUNCTIONS] + [
+    (INDICATORS, "quadrature_groups")]
 machinery.TESTS = {"_fdd.py": [  # the quickest first
     "tests/engine/identification/test_fdd.py",
     "tests/engine/measured/test_pipeline.py::test_spectral_witness_compares_shapes_in_each_channels_quantity",
@@ -49,8 +52,11 @@ machinery.TESTS = {"_fdd.py": [  # the quickest first
         "test_a_heavily_damped_mode_with_its_own_peak_is_trusted",
         "test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
         "test_spectral_witness_compares_shapes_in_each_channels_quantity",
-        "test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay")] + [
-        "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks"]}
+        "test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay",
+        "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning")] + [
+        "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks"],
+    "_indicators.py": ["tests/engine/identification/test_indicators.py",
+                       PIPELINE_TESTS + "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning"]}
 machinery.EQUIVALENT = machinery.ROOT / "benchmarks" / "mutation_witness_equivalent.txt"
 
 if __name__ == "__main__":

@@ -15,13 +15,14 @@ from ._era_kernels import decompose
 from ._fdd import SHARED_PEAK, SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd, shared_peaks, spectral_support
 from ._figures import stabilisation_figure
 from ._hankel import hankel
-from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity
+from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity, quadrature_groups
 from ._result import FLAGS, ModalResult, ModalWarning, normalise_complex_shapes, normalise_shapes
 from ._stabilisation import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, doubtful_note,
                              segment_std, stabilisation)
 from ._tcm import tcm
 
-# envelope_variation and steady (harmonics told by their steady amplitude), QUANTITIES (what a
+# envelope_variation and steady (harmonics told by their steady amplitude), quadrature_groups (channels a
+# derivative apart), QUANTITIES (what a
 # channel may measure), SAME_SHAPE, DAMPED_ABOVE, doubtful_note, SHARED_PEAK(_MAC), segment_std, normalise_shapes,
 # normalise_complex_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a

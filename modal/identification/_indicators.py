@@ -152,3 +152,93 @@ def modal_amplitude_coherence(histories, z, n_sets: int) -> np.ndarray:
     flat = np.ascontiguousarray(histories).view(float)  # |q|^2 as a real dot product: no complex abs
     den = np.sqrt(np.einsum("ij,ij->i", flat, flat)) * ideal_norm
     return np.divide(num, den, out=np.zeros_like(num), where=den > 0)
+
+
+#: :func:`quadrature_groups`: an entry counts in a mode when it holds at least
+#: this share of its channel's largest entry over the modes compared (a
+#: channel's weak entries are its noise, of random phase) ...
+QUADRATURE_MIN_SHARE = 0.1
+#: ... two channels are in phase (or opposite) when their phases differ by at
+#: most this many degrees from 0 or 180, a quarter period apart when by at
+#: most this from 90 (median over the modes both show): a derivative of a
+#: mode damped ``zeta`` lies ``asin(zeta)`` from 90 (2.9 degrees at 5 %), the
+#: Weimar frame's velocity and acceleration channels 0.1-0.5 from 90 in all 15
+#: setups; at 10 or 20 degrees, one and two of 360 simulated records of
+#: ``bench_selection`` (mixtures of close pairs, 78.9 and 83.7 degrees) were
+#: parted, at 5 none ...
+QUADRATURE_TOLERANCE_DEG = 5.0
+#: ... and a pair is judged on at least this many modes.
+QUADRATURE_MIN_MODES = 3
+
+
+def quadrature_groups(shapes) -> tuple[list[int], list[int], float, int] | None:
+    """Two groups of channels a quarter period apart in every mode, or None.
+
+    A channel that measures another derivative of the motion than the others
+    (a velocity among accelerations: ``a = s v``, ``s = i omega`` for light
+    damping) is 90 degrees out of phase with them in every mode, so shapes
+    identified as if all channels measured one quantity are complex (low
+    MPC) although the modes are normal. For each pair of channels, the
+    phase difference of their entries in each mode both show
+    (:data:`QUADRATURE_MIN_SHARE`), folded to 0-90 degrees (a sign is the
+    sensor's orientation), has a median over those modes; the channels are
+    parted in two groups so that every pair within a group is in phase and
+    every pair across is a quarter period apart (within
+    :data:`QUADRATURE_TOLERANCE_DEG`). A pair in between, a pair that
+    contradicts the parting, or one group left empty: None. Channels no
+    pair places (too weak in every mode) are in neither group.
+
+    Parameters
+    ----------
+    shapes : array_like, shape (n_channels, n_modes)
+        Complex shapes of modes whose shapes are well identified (e.g. MAMC
+        high), as identified (the entries' units do not matter).
+
+    Returns
+    -------
+    tuple or None
+        ``(first, second, median_deg, n_modes)``: the channels of each group
+        (``first`` holds the lowest channel placed), the median over the
+        pairs across of their median phase difference (degrees), and the
+        number of modes in which a pair across was judged.
+    """
+    shapes = np.atleast_2d(np.asarray(shapes, dtype=complex))
+    n_channels = shapes.shape[0]
+    magnitude = np.abs(shapes)
+    largest = magnitude.max(axis=1, keepdims=True, initial=0.0)  # no mode: nothing shown
+    shown = magnitude >= QUADRATURE_MIN_SHARE * np.where(largest > 0, largest, np.inf)
+    apart = np.full((n_channels, n_channels), np.nan)
+    counts = np.zeros((n_channels, n_channels), dtype=int)
+    for c in range(n_channels):
+        for d in range(c + 1, n_channels):
+            both = shown[c] & shown[d]
+            if both.sum() < QUADRATURE_MIN_MODES:
+                continue
+            angle = np.degrees(np.abs(np.angle(shapes[c, both] * np.conj(shapes[d, both]))))
+            apart[c, d] = apart[d, c] = np.median(np.minimum(angle, 180.0 - angle))
+            counts[c, d] = counts[d, c] = both.sum()
+    judged = np.isfinite(apart)
+    if np.any(judged & (apart > QUADRATURE_TOLERANCE_DEG) & (apart < 90.0 - QUADRATURE_TOLERANCE_DEG)):
+        return None
+    group = np.full(n_channels, -1)
+    for start in range(n_channels):  # each connected set of judged pairs, coloured from its lowest channel
+        if group[start] >= 0 or not judged[start].any():
+            continue
+        group[start], queue = 0, [start]
+        while queue:
+            c = queue.pop()
+            for d in np.flatnonzero(judged[c]):
+                side = group[c] if apart[c, d] <= QUADRATURE_TOLERANCE_DEG else 1 - group[c]
+                if group[d] < 0:
+                    group[d] = side
+                    queue.append(d)
+                elif group[d] != side:
+                    return None
+        if start != int(np.flatnonzero(group >= 0)[0]):
+            return None  # two unconnected sets: their relation is unknown
+    first, second = np.flatnonzero(group == 0), np.flatnonzero(group == 1)
+    if not first.size or not second.size:
+        return None
+    across = [(c, d) for c in first for d in second if judged[c, d]]
+    return ([int(c) for c in first], [int(d) for d in second], float(np.median([apart[c, d] for c, d in across])),
+            int(max(counts[c, d] for c, d in across)))

@@ -215,6 +215,35 @@ def level_warning(y, labels, quantities=None) -> str | None:
             "channel in one unit (a sensor near a support is weak for a reason)")
 
 
+def quadrature_warning(result: Stabilisation, labels) -> str | None:
+    """A warning when the channels fall in two groups a quarter period apart
+    in every well-identified mode (:func:`modal.identification.quadrature_groups`
+    of the complex shapes, as identified in one quantity, of the modes of
+    MAMC at least ``criteria.doubtful_mamc``), else None: one group measures
+    another derivative of the motion than the identification took it for (a
+    laser vibrometer's velocity beside accelerometers, all taken as one
+    quantity), so the shapes read as complex and their modes are flagged
+    ``low MPC`` although they are normal."""
+    from ..identification import quadrature_groups
+
+    modes = result.modes
+    shapes = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
+    found = quadrature_groups(shapes[:, modes["mamc"].to_numpy(dtype=float) >= result.criteria.doubtful_mamc])
+    if found is None:
+        return None
+    first, second, degrees, n_modes = found
+    low = modes["mpc"].to_numpy(dtype=float)
+    low = low[low < result.criteria.doubtful_mpc]
+    consequence = (f"{len(low)} mode(s) read as complex and are flagged low MPC ({low.min():.2f}-{low.max():.2f})"
+                   if len(low) else "the shapes read as complex")
+    return (f"channels {', '.join(str(labels[c]) for c in first)} and channels "
+            f"{', '.join(str(labels[c]) for c in second)} are a quarter period apart in every mode both show "
+            f"({degrees:.1f} degrees, median over up to {n_modes} modes): one group measures another derivative of "
+            f"the motion than the identification took it for (velocity beside acceleration, or displacement beside "
+            f"velocity), so {consequence}; give each channel's quantity (quantities, --quantities, or a channel "
+            "table's quantity column)")
+
+
 def available_memory() -> int:
     """Bytes of memory this process can still take: ``MemAvailable`` of
     ``/proc/meminfo`` (else the physical memory), and no more than what a
@@ -525,6 +554,9 @@ def identify_record(
     result = with_spectral_witness(result, spectrum, quantities=options.quantities, onset=onset)
     for note in result.notes:  # the selection's decisions (doubtful modes, second estimates, what it left out)
         log(note)  # after the witness, which may vouch for a damping the selection doubted
+    mixed = quadrature_warning(result, labels)
+    if mixed:
+        warnings.warn(mixed, ModalWarning, stacklevel=2)
     if chosen["decimation"] >= 2:
         result = with_filter_check(result, chosen["decimation"], dt)
     if excitation == "ambient":  # a decay's amplitude decays, a harmonic's and a random mode's do not

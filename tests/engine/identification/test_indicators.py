@@ -93,3 +93,102 @@ def test_modal_amplitude_coherence_of_any_numeric_histories(dtype):
     expected = modal_amplitude_coherence(values.astype(complex), z, 2)
     np.testing.assert_allclose(modal_amplitude_coherence(values.astype(dtype), z, 2), expected, rtol=1e-14)
     assert np.all((expected > 0.05) & (expected < 0.95))  # neither degenerate case
+
+
+def _quadrature_shapes(seed=0, n_modes=5):
+    """Normal shapes of four channels, each mode's entries real times one
+    phase per mode; channels 2 and 3 a derivative away (times ``i``)."""
+    rng = np.random.default_rng(seed)
+    real = rng.uniform(0.3, 1.0, (4, n_modes)) * rng.choice([-1.0, 1.0], (4, n_modes))
+    return real * np.exp(1j * rng.uniform(0, 2 * np.pi, n_modes)) * np.array([1, 1, 1j, 1j])[:, None]
+
+
+def test_quadrature_groups_part_channels_a_derivative_apart():
+    """Channels 2 and 3 a quarter period from 0 and 1 in five modes (signs
+    of every entry random: opposite is in phase): the groups, 90 degrees,
+    five modes; -i instead of i (a sensor the other way round) the same;
+    the groups whatever the channel order (the first holds the lowest); the
+    derivative of a mode damped 5 % (87.1 degrees) parted, 83 degrees (a
+    mixture of close modes came as near) not."""
+    from modal.identification import quadrature_groups
+
+    shapes = _quadrature_shapes()
+    first, second, degrees, n_modes = quadrature_groups(shapes)
+    assert (first, second, n_modes) == ([0, 1], [2, 3], 5) and degrees == pytest.approx(90.0, abs=1e-9)
+    flipped = shapes * np.array([1, 1, -1, 1])[:, None]
+    assert quadrature_groups(flipped)[:2] == ([0, 1], [2, 3])
+    assert quadrature_groups(shapes[[2, 0, 3, 1]])[:2] == ([0, 2], [1, 3])
+    damped = shapes * np.exp(1j * np.arcsin(0.05) * np.array([0, 0, 1, 1]))[:, None]  # s v of a mode damped 5 %
+    assert quadrature_groups(damped)[2] == pytest.approx(90 - np.degrees(np.arcsin(0.05)), abs=1e-9)
+    assert quadrature_groups(shapes * np.exp(1j * np.radians(7.0) * np.array([0, 0, 1, 1]))[:, None]) is None  # 83
+    assert quadrature_groups(shapes * np.exp(1j * np.radians(4.5) * np.array([0, 0, 1, 1]))[:, None])[:2] == (
+        [0, 1], [2, 3])  # 85.5 degrees: within 5 of 90
+    opposite = shapes.copy()
+    opposite[1] = -opposite[0] * np.exp(1j * np.radians(4.5))  # 175.5 degrees: within 5 of opposite, in phase
+    assert quadrature_groups(opposite)[:2] == ([0, 1], [2, 3])
+    assert quadrature_groups(shapes[[0, 2]])[:2] == ([0], [1])  # two channels: their one pair
+
+
+def test_quadrature_groups_none_for_normal_complex_or_contradicting_shapes():
+    """None: every channel of one quantity (one group); a phase of 45 degrees
+    (between in phase and quadrature: a complex mode, not a derivative);
+    a consistent parting found as the pairs' medians give it, none once a
+    pair lies in between; modes with random phases per entry (complex
+    modes)."""
+    from modal.identification import quadrature_groups
+
+    shapes = _quadrature_shapes()
+    assert quadrature_groups(shapes * np.array([1, 1, -1j, -1j])[:, None]) is None  # all in phase
+    assert quadrature_groups(shapes * np.array([1, 1, np.exp(-0.25j * np.pi), 1])[:, None] / np.array(
+        [1, 1, 1j, 1j])[:, None]) is None  # channel 2 at 45 degrees
+    contradicting = shapes.copy()
+    contradicting[1] *= 1j  # channel 1 now with 2 and 3, but 0 with 2 in quadrature and 0 with 1 too
+    contradicting[3] /= 1j  # 3 back with 0: 1-3 in quadrature, 2-3 in quadrature, 0-3 in phase, 0-2 quadrature
+    assert quadrature_groups(contradicting)[:2] == ([0, 3], [1, 2])  # a consistent parting is found ...
+    contradicting[3, :3] *= 1j  # channel 3 a quarter period on in three of five modes: the median moves it
+    assert quadrature_groups(contradicting)[:2] == ([0], [1, 2, 3])
+    contradicting[3] *= np.exp(0.3j * np.pi)  # and 54 degrees on in all: in between, no parting
+    assert quadrature_groups(contradicting) is None
+    rng = np.random.default_rng(1)
+    assert quadrature_groups(np.exp(1j * rng.uniform(0, 2 * np.pi, (4, 8)))) is None
+    assert quadrature_groups(np.empty((4, 0), dtype=complex)) is None  # no mode well identified
+
+
+def test_quadrature_groups_leave_weak_and_rare_channels_out():
+    """A channel whose entries are all below a tenth of its largest but one
+    is judged in fewer than three modes: in neither group, its noise-like
+    phases ignored; three modes suffice; a channel shown only where no other
+    is (or never: all zero) in neither group; a channel judged with one
+    other alone is placed through it; two sets of channels no judged pair
+    joins give no parting."""
+    from modal.identification._indicators import QUADRATURE_MIN_MODES, QUADRATURE_MIN_SHARE, quadrature_groups
+
+    shapes = np.vstack([_quadrature_shapes(), np.exp(1j * np.arange(5.0))])  # channel 4: random phases ...
+    shapes[4, :3] *= 0.5 * QUADRATURE_MIN_SHARE  # ... shown in two modes only
+    assert QUADRATURE_MIN_MODES == 3
+    assert quadrature_groups(shapes)[:2] == ([0, 1], [2, 3])
+    shapes[4, 2] /= 0.5 * QUADRATURE_MIN_SHARE  # shown in three: judged, and its phases contradict
+    assert quadrature_groups(shapes) is None
+    three = _quadrature_shapes(n_modes=3)
+    assert quadrature_groups(three)[3] == 3 and quadrature_groups(three[:, :2]) is None
+    extra = np.hstack([_quadrature_shapes(), np.zeros((4, 3))])
+    alone = np.vstack([extra, np.r_[np.zeros(5), 1.0, -1.0, 1.0]])  # channel 4 only where no other shows
+    assert quadrature_groups(alone)[:2] == ([0, 1], [2, 3])
+    chained = extra.copy()
+    chained[3] = np.r_[np.zeros(5), 2j * chained[2, 5:]]  # channel 3 judged with 2 alone, over three added modes
+    chained[2, 5:] = [1.0, -0.5, 0.8]
+    chained[3, 5:] = [2j, -1j, 1.6j]
+    assert quadrature_groups(chained)[:2] == ([0, 1, 3], [2])  # placed through channel 2, a quarter period on
+    zero = np.vstack([_quadrature_shapes(), np.zeros(5)])
+    assert quadrature_groups(zero)[:2] == ([0, 1], [2, 3])  # an all-zero channel shows in no mode
+    unconnected = extra.copy()
+    unconnected[2:, :5] = 0.0
+    unconnected[2, 5:] = [1.0, -0.5, 0.8]
+    unconnected[3, 5:] = [0.5, 1.0, -0.7]  # 2 and 3 in phase, judged only with each other; 0 and 1 in quadrature
+    unconnected[1, :5] *= 1j
+    assert quadrature_groups(unconnected) is None  # how 2, 3 relate to 0, 1 is unknown
+    assert quadrature_groups(unconnected[:2])[:2] == ([0], [1])
+    apart = _quadrature_shapes()
+    apart[[0, 1], :2] = 0.0
+    apart[[2, 3], 2:] = 0.0  # channels 0, 1 only in modes 2-4 and 2, 3 only in 0-1: no pair across judged
+    assert quadrature_groups(apart) is None

@@ -475,6 +475,59 @@ def test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay(
     assert len(others) and others["flag"].str.contains("no spectral peak").all()  # a noise mode finds no peak either
 
 
+def _mixed_quantities_record(seed=0, n=2**15, dt=0.05):
+    """Ambient response of a three-mass chain (0.44, 1.15, 1.68 Hz) under
+    white forces: channels 0 and 1 the accelerations of masses 0 and 1,
+    channels 2 and 3 the velocities of masses 2 and 1 (exact ZOH)."""
+    import scipy.signal
+
+    m, k = np.diag([1.0, 1.2, 0.9]), np.array([[80.0, -40.0, 0.0], [-40.0, 70.0, -30.0], [0.0, -30.0, 30.0]])
+    m_inv = np.linalg.inv(m)
+    c = 0.004 * k + 0.01 * m
+    a = np.block([[np.zeros((3, 3)), np.eye(3)], [-m_inv @ k, -m_inv @ c]])
+    acc = np.hstack([-m_inv @ k, -m_inv @ c])
+    outputs = np.vstack([acc[0], acc[1], np.eye(6)[5], np.eye(6)[4]])
+    feed = np.vstack([m_inv[0], m_inv[1], np.zeros(3), np.zeros(3)])
+    system = scipy.signal.cont2discrete((a, np.vstack([np.zeros((3, 3)), m_inv]), outputs, feed), dt)
+    _, y, _ = scipy.signal.dlsim(system[:4] + (dt,), np.random.default_rng(seed).standard_normal((n, 3)))
+    return y, dt
+
+
+def test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning():
+    """Two velocity channels among accelerations, no quantities given: the
+    warning names the groups (channel 2 is too weak in two of the modes to
+    be placed) and the low-MPC flag it explains; quantities all
+    ``acceleration`` (one quantity) warn the same, and so do quantities
+    that name the wrong channels velocities; each channel's own quantity
+    gives normal shapes (MPC 0.999+) and no warning. The velocities
+    10^4 times weaker (scaled up for the identification: MPC high) still
+    draw it, without a low-MPC flag to explain."""
+    import re
+
+    y, dt = _mixed_quantities_record()
+
+    def run(quantities):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result, _ = modal.identify_record(y, dt, "ambient", quantities=quantities)
+        return result.modes, [str(w.message) for w in caught if "quarter period" in str(w.message)]
+
+    modes, said = run(None)
+    assert len(said) == 1
+    assert re.match(r"channels 0, 1 and channels (2, )?3 are a quarter period apart in every mode both show "
+                    r"\(8[5-9]\.\d degrees, median over up to \d modes\)", said[0]), said[0]
+    low = modes["mpc"][modes["mpc"] < 0.7]
+    assert len(low) == 1 and f"1 mode(s) read as complex and are flagged low MPC ({low.iloc[0]:.2f}-" in said[0]
+    assert run(["acceleration"] * 4)[1] == said
+    assert len(run(["acceleration", "velocity", "acceleration", "velocity"])[1]) == 1
+    modes, said = run(["acceleration", "acceleration", "velocity", "velocity"])
+    assert said == [] and (modes["mpc"].iloc[:3] > 0.999).all()
+    y[:, 2:] *= 1e-4
+    modes, said = run(None)
+    assert (modes["mpc"].iloc[:3] > 0.7).all() and len(said) == 1
+    assert said[0].startswith("channels 0, 1 and channels ") and "so the shapes read as complex; give" in said[0]
+
+
 def test_channels_of_one_quantity_a_hundred_fold_apart_draw_a_warning():
     """A channel in other units (x 1000) among channels of the same quantity
     is named with the weakest; levels within 100-fold, or apart only across
