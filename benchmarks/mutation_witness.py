@@ -53,7 +53,8 @@ machinery.TESTS = {"_fdd.py": [  # the quickest first
         "test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
         "test_spectral_witness_compares_shapes_in_each_channels_quantity",
         "test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay",
-        "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning")] + [
+        "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning",
+        "test_the_quadrature_warning_judges_only_well_identified_shapes")] + [
         "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks"],
     "_indicators.py": ["tests/engine/identification/test_indicators.py",
                        PIPELINE_TESTS + "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning"]}

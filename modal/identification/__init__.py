@@ -22,9 +22,8 @@ from ._stabilisation import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, Stabilisation
 from ._tcm import tcm
 
 # envelope_variation and steady (harmonics told by their steady amplitude), quadrature_groups (channels a
-# derivative apart), QUANTITIES (what a
-# channel may measure), SAME_SHAPE, DAMPED_ABOVE, doubtful_note, SHARED_PEAK(_MAC), segment_std, normalise_shapes,
-# normalise_complex_shapes and shared_peaks are importable
+# derivative apart), QUANTITIES (what a channel may measure), SAME_SHAPE, DAMPED_ABOVE, doubtful_note,
+# SHARED_PEAK(_MAC), segment_std, normalise_shapes, normalise_complex_shapes and shared_peaks are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
 # campaign averages shapes by the identification's scaling; the witness of a record names modes on one
 # peak and leaves the selection's same-shape pairs alone); the names below are also re-exported by modal.

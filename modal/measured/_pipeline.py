@@ -227,8 +227,8 @@ def quadrature_warning(result: Stabilisation, labels) -> str | None:
     from ..identification import quadrature_groups
 
     modes = result.modes
-    shapes = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
-    found = quadrature_groups(shapes[:, modes["mamc"].to_numpy(dtype=float) >= result.criteria.doubtful_mamc])
+    well_identified = modes["mamc"].to_numpy(dtype=float) >= result.criteria.doubtful_mamc
+    found = quadrature_groups(_identified_shapes(result)[:, well_identified])
     if found is None:
         return None
     first, second, degrees, n_modes = found
@@ -242,6 +242,12 @@ def quadrature_warning(result: Stabilisation, labels) -> str | None:
             f"the motion than the identification took it for (velocity beside acceleration, or displacement beside "
             f"velocity), so {consequence}; give each channel's quantity (quantities, --quantities, or a channel "
             "table's quantity column)")
+
+
+def _identified_shapes(result: Stabilisation) -> np.ndarray:
+    """The shapes as identified: complex where the result holds them, else
+    the real ones."""
+    return result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
 
 
 def available_memory() -> int:
@@ -608,7 +614,8 @@ def with_filter_check(result: Stabilisation, factor, dt) -> Stabilisation:
     at_pole = (np.abs(freq / pole_hz - 1) < pole_zeta) & (damping >= pole_zeta / 2) & (damping <= 2 * pole_zeta)
     reason = f"{FILTER_POLE} ({pole_hz:.4g} Hz, {100 * pole_zeta:.2g} %)"
     modes = modes.copy()
-    modes["flag"] = _with_reasons(_without_reasons(modes["flag"], FILTER_POLE), [reason if hit else "" for hit in at_pole])
+    modes["flag"] = _with_reasons(_without_reasons(modes["flag"], FILTER_POLE),
+                                  [reason if hit else "" for hit in at_pole])
     return dataclasses.replace(result, modes=modes)
 
 
@@ -630,8 +637,9 @@ def with_harmonic_check(result: Stabilisation, y, dt) -> Stabilisation:
                                    modes["damping"].to_numpy(dtype=float), result.shapes)
     modes = _with_columns(modes, variation)
     if "flag" in modes:
-        modes["flag"] = _with_reasons(_without_reasons(modes["flag"], HARMONIC), [f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""
-                                                      for h, cv in zip(steady(variation), variation["envelope_cv"])])
+        modes["flag"] = _with_reasons(_without_reasons(modes["flag"], HARMONIC),
+                                      [f"{HARMONIC} (envelope CV {cv:.2f})" if h else ""
+                                       for h, cv in zip(steady(variation), variation["envelope_cv"])])
     return dataclasses.replace(result, modes=modes)
 
 
@@ -741,7 +749,7 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
                                   spectral_support)
 
     modes = result.modes
-    identified = result.complex_shapes if result.complex_shapes.shape == result.shapes.shape else result.shapes
+    identified = _identified_shapes(result)
     shapes = identified
     freq_hz, damping = modes["freq_hz"].to_numpy(dtype=float), modes["damping"].to_numpy(dtype=float)
     if quantities is not None and len(modes):
@@ -760,7 +768,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     modes = _with_columns(modes, support)
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
-        before = _without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK)  # a witness before
+        # the reasons a witness applied before gave, taken away: applied twice, it flags as once
+        before = _without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK)
         modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
         notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])

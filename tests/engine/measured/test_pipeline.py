@@ -528,6 +528,34 @@ def test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning():
     assert said[0].startswith("channels 0, 1 and channels ") and "so the shapes read as complex; give" in said[0]
 
 
+def test_the_quadrature_warning_judges_only_well_identified_shapes():
+    """Four normal modes whose channels 2 and 3 are a quarter period from 0
+    and 1, and four of MAMC 0.5 (noise modes) whose channel 2 lies 45
+    degrees from the others: those are left out (MAMC below
+    ``doubtful_mamc``), so the groups are named; at MAMC 0.99 they are
+    judged, the medians fall between, and no parting holds. Labels are the
+    record's channel names."""
+    import dataclasses
+
+    from modal.identification._stabilisation import Stabilisation
+    from modal.measured._pipeline import quadrature_warning
+
+    rng = np.random.default_rng(4)
+    real = rng.uniform(0.3, 1.0, (4, 8)) * rng.choice([-1.0, 1.0], (4, 8))
+    shapes = real * np.array([1, 1, 1j, 1j])[:, None]
+    shapes[:, 4:] = real[:, 4:] * np.array([1, 1, np.exp(0.25j * np.pi), 1])[:, None]  # the noise modes
+    modes = pd.DataFrame({"mode": np.arange(1, 9), "freq_hz": np.arange(1.0, 9.0), "mpc": [0.5] * 4 + [0.9] * 4,
+                          "mamc": [0.999] * 4 + [0.5] * 4})
+    result = Stabilisation(modes, shapes.real, pd.DataFrame(), np.empty((0, 0)), np.empty(0), np.empty(0),
+                           np.empty(0), complex_shapes=shapes)
+    said = quadrature_warning(result, ["x1", "x2", "v3", "v4"])
+    assert said.startswith("channels x1, x2 and channels v3, v4 are a quarter period apart in every mode both show "
+                           "(90.0 degrees, median over up to 4 modes)")
+    assert "so 4 mode(s) read as complex and are flagged low MPC (0.50-0.50)" in said
+    judged = dataclasses.replace(result, modes=modes.assign(mamc=0.99))
+    assert quadrature_warning(judged, ["x1", "x2", "v3", "v4"]) is None
+
+
 def test_channels_of_one_quantity_a_hundred_fold_apart_draw_a_warning():
     """A channel in other units (x 1000) among channels of the same quantity
     is named with the weakest; levels within 100-fold, or apart only across
