@@ -1,5 +1,7 @@
 """Exact simulation of ambient records of lumped-mass structures, shared by
-the benchmarks (``bench_selection.py``, ``bench_uncertainty.py``).
+the benchmarks (``bench_selection.py``, ``bench_uncertainty.py``), and
+the free decay of an impact whose damping falls with its amplitude
+(``bench_impact.py``, ``tests/engine/identification/test_blends.py``).
 
 A structure is its mass, damping and stiffness matrices; the record is the
 accelerations at some DOFs under independent random forces at every DOF,
@@ -96,3 +98,33 @@ def simulate(m, c, k, sensors, dt, n_samples, rng, colour_hz=None, noise=0.02):
     lam = lam[lam.imag > 0]
     lam = lam[np.argsort(np.abs(lam))]
     return acc, np.abs(lam) / (2 * np.pi), -lam.real / np.abs(lam)
+
+
+def falling_damping_decays(freq_hz, low, shapes, dt, n_samples, seed=0, growth=3.0, quiet=256):
+    """An impact's free decay whose damping falls with the amplitude (friction
+    in a joint): each mode ``q'' + 2 zeta(a) omega q' + omega^2 q = 0``, from
+    ``q' = a_0 omega`` (``a_0`` drawn in 0.5-1), with ``zeta(a) = low (1 +
+    growth min(a / a_0, 1))``: four times ``low`` at the blow, ``low`` at the
+    end (``scipy.integrate.solve_ivp``); acceleration after ``quiet`` samples
+    of none, with 0.1 % noise."""
+    from scipy.integrate import solve_ivp
+
+    rng = np.random.default_rng(seed)
+    omega, low = 2 * np.pi * np.asarray(freq_hz), np.asarray(low)
+    a0 = rng.uniform(0.5, 1.0, len(omega))
+    n = len(omega)
+
+    def zeta(q, v):  # q, v: (n_modes,) or (n_modes, n_samples)
+        q, v = q.T, v.T
+        return (low * (1 + growth * np.minimum(np.sqrt(q**2 + (v / omega) ** 2) / a0, 1))).T
+
+    def motion(_, x):
+        q, v = x[:n], x[n:]
+        return np.concatenate([v, -2 * zeta(q, v) * omega * v - omega**2 * q])
+
+    t = dt * np.arange(n_samples)
+    q, v = np.split(solve_ivp(motion, (0, t[-1]), np.concatenate([np.zeros(n), a0 * omega]), t_eval=t, rtol=1e-9,
+                              atol=1e-12, method="DOP853").y, 2)
+    acc = np.vstack([np.zeros((quiet, len(shapes))),
+                     (shapes @ (-2 * zeta(q, v) * omega[:, None] * v - omega[:, None] ** 2 * q)).T])
+    return acc + 1e-3 * acc.std() * rng.standard_normal(acc.shape)

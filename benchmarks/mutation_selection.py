@@ -11,7 +11,8 @@ targets, the tests and the list of equivalent survivors
 functions of ``modal/identification/_stabilisation.py`` that select,
 judge and flag modes, state second estimates and notes, join clusters split
 across orders, and check the criteria, and the segments' standard deviation
-(``segment_std``) whose seed pole the selection now picks.
+(``segment_std``) whose seed pole the selection now picks, and the
+blends of two close modes that the spectral witness names (``blends``).
 """
 
 from __future__ import annotations
@@ -26,14 +27,15 @@ SOURCE = "modal/identification/_stabilisation.py"
 FUNCTIONS = ("_select_modes", "_consistent", "_shape_scatter", "_second_estimates", "_flags", "_side_bands", "_notes",
              "doubtful_note",
              "trusted_modes", "__post_init__", "_join_split_clusters", "segment_std",
-             "matched_eigenvalues")
+             "matched_eigenvalues", "blends")
 TRUST = "tests/engine/identification/test_selection_trust.py"
 STAB = "tests/engine/identification/test_stabilisation.py::"
 MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
 SELECTION = "tests/engine/identification/test_mode_selection.py::"
 
 machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS]
-machinery.TESTS = {"_stabilisation.py": [TRUST, "tests/engine/identification/test_side_bands.py"] + [STAB + t for t in (
+machinery.TESTS = {"_stabilisation.py": [TRUST, "tests/engine/identification/test_side_bands.py",
+                                         "tests/engine/identification/test_blends.py"] + [STAB + t for t in (
     "test_stability_criteria_bounds_and_names", "test_select_modes_on_a_known_pole_table",
     "test_select_modes_needs_min_poles_candidates", "test_select_modes_without_a_large_enough_cluster",
     "test_select_modes_joins_groups_by_average_linkage", "test_select_modes_weighs_damping_with_frequency",

@@ -17,16 +17,16 @@ from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity, quadrature_groups
 from ._result import FLAGS, ModalResult, ModalWarning, normalise_complex_shapes, normalise_shapes
-from ._stabilisation import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, doubtful_note,
-                             segment_std, stabilisation)
+from ._stabilisation import (BLEND, DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, Stabilisation, StabilityCriteria, blends,
+                             doubtful_note, segment_std, stabilisation)
 from ._tcm import tcm
 
 # envelope_variation and steady (harmonics told by their steady amplitude), quadrature_groups (channels a
 # derivative apart), QUANTITIES (what a channel may measure), SAME_SHAPE, DAMPED_ABOVE, doubtful_note,
-# SHARED_PEAK(_MAC), segment_std, normalise_shapes, normalise_complex_shapes and shared_peaks are importable
+# SHARED_PEAK(_MAC), segment_std, normalise_shapes, normalise_complex_shapes, shared_peaks, BLEND and blends are importable
 # from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
 # campaign averages shapes by the identification's scaling; the witness of a record names modes on one
-# peak and leaves the selection's same-shape pairs alone); the names below are also re-exported by modal.
+# peak, leaves the selection's same-shape pairs alone and names blends of two modes); the names below are also re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
     "align_shapes", "auto_mac", "cera", "decompose", "efdd", "era", "fdd", "hankel", "mac",

@@ -50,6 +50,8 @@ SAME_SHAPE = "same shape as"
 #: How a damping flagged above the record's median reads (:func:`_flags`); a mode with a spectral peak of its
 #: own keeps no such reason (:func:`modal.measured.with_spectral_witness`): a heavily damped real mode.
 DAMPED_ABOVE = "implausibly high"
+#: How the flag of a broad mode that two sharper ones within its half-power band explain begins (:func:`blends`).
+BLEND = "blend of"
 #: The default block columns keep ``H(0)`` within this many bytes (512 MB), so a
 #: long free decay or impulse response is not copied whole into a Hankel matrix.
 HANKEL_MAX_BYTES = 512 * 2**20
@@ -864,6 +866,8 @@ def _flags(modes, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=Non
       one holds at least ``criteria.single_channel_share`` of the shape's
       energy;
     - ``side band of 116.9 Hz by 6.617 Hz``: see :func:`_side_bands`.
+
+    (The spectral witness adds ``blend of 182.2 and 186.7 Hz``, :func:`blends`.)
     """
     mpc, damping = np.asarray(modes["mpc"]), np.asarray(modes["damping"])
     clean = damping[mpc >= criteria.doubtful_mpc]
@@ -898,6 +902,72 @@ def _flags(modes, visible: np.ndarray, criteria: StabilityCriteria, mode_mac=Non
         flags.append(reasons)
     side_bands = _side_bands(freq, damping, n_poles, mode_mac, [not r for r in flags], criteria.mac_min)
     return ["; ".join(reasons + ([side_bands[k]] if side_bands[k] else [])) for k, reasons in enumerate(flags)]
+
+
+def blends(freq, damping, shapes, trusted, mac_min) -> list[str]:
+    """Which modes are a blend of two sharper ones (``"blend of 182.2 and
+    186.7 Hz"``, or empty): one broad resonance fitted across two close
+    modes, not a mode of its own.
+
+    A decay whose damping changes with its amplitude (friction in a joint,
+    an impact test's early, larger cycles) is no single exponential: of two
+    close modes, the early fast decay of both is fitted as a third pole
+    between them, broader than either, whose shape is whatever mixture of
+    the two the early cycles held. Mode ``k`` is flagged when
+
+    - two modes ``i`` and ``j`` without a reason to doubt them (``trusted``:
+      the spectral witness's included, so each has a singular-value peak of
+      its own) lie below and above it within its half-power half-width
+      ``zeta_k f_k`` (its resonance covers both), each less damped than
+      ``k`` (sharper), and neither a blend itself (the modes are judged
+      sharpest first); of several such pairs, the flag names the nearest;
+    - ``k``'s shape lies in the span of theirs: the share of its energy in
+      that plane, ``|P phi_k|^2 / |phi_k|^2`` (``P`` the projection, the MAC
+      of ``phi_k`` with its projection), is at least ``mac_min``;
+    - at least :data:`MIN_CHANNELS_ALIKE` channels: two channels span every
+      shape, so the span says nothing there.
+
+    A mode of its own between two others has a shape of its own (modes are
+    independent over the channels, orthogonal in the mass), out of their
+    plane; a physical broad mode between two sharp ones of its plane would
+    be flagged too, and the flag says to look.
+
+    Parameters
+    ----------
+    freq, damping : array_like, shape (n_modes,)
+        The modes' frequencies (Hz) and damping ratios (NaN: no band).
+    shapes : array_like, shape (n_channels, n_modes)
+        Their shapes as identified (complex).
+    trusted : sequence of bool, shape (n_modes,)
+        Modes without another reason (only they explain another).
+    mac_min : float
+        The share of the shape in the two modes' plane above which it is theirs.
+
+    Returns
+    -------
+    list of str
+        One reason per mode, empty where none.
+    """
+    freq, damping, shapes = np.asarray(freq, dtype=float), np.asarray(damping, dtype=float), np.asarray(shapes)
+    n = len(freq)
+    flags = [""] * n
+    if shapes.shape[0] < MIN_CHANNELS_ALIKE:
+        return flags
+    width = freq * damping  # NaN damping: no band, compared False
+    explains = list(trusted)
+    for k in np.argsort(damping, kind="stable"):  # the sharpest first: a blend explains no broader mode
+        sharper = [i for i in range(n) if explains[i] and damping[i] < damping[k]]
+        # the nearest pair first: the flag names it
+        below = sorted((i for i in sharper if freq[k] - width[k] <= freq[i] < freq[k]), key=lambda i: -freq[i])
+        above = sorted((j for j in sharper if freq[k] < freq[j] <= freq[k] + width[k]), key=lambda j: freq[j])
+        for i, j in ((i, j) for i in below for j in above):
+            plane = shapes[:, [i, j]]
+            projected = plane @ np.linalg.lstsq(plane, shapes[:, k], rcond=None)[0]
+            if np.vdot(projected, projected).real >= mac_min * np.vdot(shapes[:, k], shapes[:, k]).real:
+                flags[k] = f"{BLEND} {freq[i]:.4g} and {freq[j]:.4g} Hz"
+                explains[k] = False
+                break
+    return flags
 
 
 def _side_bands(freq, damping, n_poles, mode_mac, trusted, mac_min) -> list[str]:

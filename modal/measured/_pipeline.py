@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from .._checks import positive_float, unit_scale
-from ..identification import ModalWarning, Stabilisation, StabilityCriteria, stabilisation
+from ..identification import BLEND, ModalWarning, Stabilisation, StabilityCriteria, stabilisation
 from ..records import SPIKE_MAX_WIDTH, clipping_warnings, despiked, spike_samples, spike_warnings
 from ._options import IdentifyOptions, identify_options, least_rows
 
@@ -573,6 +573,10 @@ def identify_record(
     unsupported = freq_hz[~result.modes["spectral_support"].to_numpy(bool)]
     if len(unsupported):
         log("no singular-value peak near " + ", ".join(f"{f:.4g}" for f in unsupported) + " Hz")
+    blended = freq_hz[[BLEND in flag for flag in _flag_texts(result.modes["flag"])]]
+    if len(blended):
+        log("a broad fit across two close modes (a blend of both, not a mode) at "
+            + ", ".join(f"{f:.4g}" for f in blended) + " Hz")
     harmonics = freq_hz[[HARMONIC in flag for flag in _flag_texts(result.modes["flag"])]]
     if len(harmonics):
         log("steady amplitude (a harmonic, not a mode) at " + ", ".join(f"{f:.4g}" for f in harmonics) + " Hz")
@@ -731,7 +735,11 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     mode that shares its peak and shape with a stronger one
     (:func:`modal.identification.shared_peaks`; a pair of which the
     selection named one ``same shape as ...`` is left as it decided, and a
-    mode the selection flagged otherwise yields the peak to a trusted one).
+    mode the selection flagged otherwise yields the peak to a trusted one),
+    and then ``blend of ...`` to a broad mode between two sharper trusted
+    ones, each with its own peak, whose shapes span its own
+    (:func:`modal.identification.blends`: one resonance fitted across two
+    close modes, as a decay whose damping falls with its amplitude gives).
 
     ``quantities`` (what each channel measures, as :func:`modal.stabilisation`
     took them): the shapes are in the first channel's quantity, the spectrum
@@ -745,8 +753,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     a fraction of a Welch segment is judged on the decay's first samples."""
     import dataclasses
 
-    from ..identification import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK, SHARED_PEAK_MAC, shared_peaks,
-                                  spectral_support)
+    from ..identification import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK, SHARED_PEAK_MAC, blends,
+                                  shared_peaks, spectral_support)
 
     modes = result.modes
     identified = _identified_shapes(result)
@@ -769,7 +777,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
         # the reasons a witness applied before gave, taken away: applied twice, it flags as once
-        before = _without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK)
+        before = _without_reasons(_without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK),
+                                  BLEND)
         modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
         notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])
@@ -778,6 +787,10 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
                               doubtful=np.array([flag != "" for flag in flags], dtype=bool) & ~shadows)
         lacking = [NO_SPECTRAL_PEAK if not found else "" for found in supported]
         modes["flag"] = _with_reasons(modes["flag"], lacking, shared)
+        # two sharp modes, each with its own peak, that a broad one between them blends
+        blended = blends(freq_hz, damping, identified, [flag == "" for flag in _flag_texts(modes["flag"])],
+                         result.criteria.mac_min)
+        modes["flag"] = _with_reasons(modes["flag"], blended)
         return dataclasses.replace(result, modes=modes, notes=notes)
     return dataclasses.replace(result, modes=modes)
 
