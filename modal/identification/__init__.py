@@ -23,10 +23,11 @@ from ._tcm import tcm
 
 # envelope_variation and steady (harmonics told by their steady amplitude), quadrature_groups (channels a
 # derivative apart), QUANTITIES (what a channel may measure), SAME_SHAPE, DAMPED_ABOVE, doubtful_note,
-# SHARED_PEAK(_MAC), segment_std, normalise_shapes, normalise_complex_shapes, shared_peaks, BLEND and blends are importable
-# from here for the other subpackages (a channel table checks its quantities against QUANTITIES; a
-# campaign averages shapes by the identification's scaling; the witness of a record names modes on one
-# peak, leaves the selection's same-shape pairs alone and names blends of two modes); the names below are also re-exported by modal.
+# SHARED_PEAK(_MAC), segment_std, normalise_shapes, normalise_complex_shapes, shared_peaks, BLEND and
+# blends are importable from here for the other subpackages (a channel table checks its quantities
+# against QUANTITIES; a campaign averages shapes by the identification's scaling; the witness of a
+# record names modes on one peak, leaves the selection's same-shape pairs alone and names blends of
+# two modes); the names below are also re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
     "align_shapes", "auto_mac", "cera", "decompose", "efdd", "era", "fdd", "hankel", "mac",

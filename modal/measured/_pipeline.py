@@ -573,11 +573,12 @@ def identify_record(
     unsupported = freq_hz[~result.modes["spectral_support"].to_numpy(bool)]
     if len(unsupported):
         log("no singular-value peak near " + ", ".join(f"{f:.4g}" for f in unsupported) + " Hz")
-    blended = freq_hz[[BLEND in flag for flag in _flag_texts(result.modes["flag"])]]
+    flags = _flag_texts(result.modes["flag"])
+    blended = freq_hz[[BLEND in flag for flag in flags]]
     if len(blended):
         log("a broad fit across two close modes (a blend of both, not a mode) at "
             + ", ".join(f"{f:.4g}" for f in blended) + " Hz")
-    harmonics = freq_hz[[HARMONIC in flag for flag in _flag_texts(result.modes["flag"])]]
+    harmonics = freq_hz[[HARMONIC in flag for flag in flags]]
     if len(harmonics):
         log("steady amplitude (a harmonic, not a mode) at " + ", ".join(f"{f:.4g}" for f in harmonics) + " Hz")
     if details is not None:
@@ -777,8 +778,9 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
         # the reasons a witness applied before gave, taken away: applied twice, it flags as once
-        before = _without_reasons(_without_reasons(_without_reasons(modes["flag"], NO_SPECTRAL_PEAK), SHARED_PEAK),
-                                  BLEND)
+        before = modes["flag"]
+        for marker in (NO_SPECTRAL_PEAK, SHARED_PEAK, BLEND):
+            before = _without_reasons(before, marker)
         modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
         notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])
