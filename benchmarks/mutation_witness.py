@@ -10,9 +10,9 @@ targets, the tests and the list of equivalent survivors
 (``benchmarks/mutation_witness_equivalent.txt``) differ. Target: every
 function of ``modal/identification/_fdd.py``: the singular-value spectrum
 (``fdd``, ``SingularValueSpectrum.df``, ``decibels``, ``peaks``,
-``refined_hz``, ``supporting_peak``), the enhanced FDD (``efdd``,
+``refined_hz``, ``maxima_near``, ``supporting_peak``, ``matching_maximum``), the enhanced FDD (``efdd``,
 ``_efdd``, ``_window_correlation``), the support check
-(``support_tolerance_hz``, ``spectral_support``), two modes on one peak
+(``support_tolerance_hz``, ``spectral_support``, ``own_shapes``), two modes on one peak
 (``shared_peaks``) and ``auto_mac``; and of ``modal/measured/_pipeline.py``
 the witness of a record (``with_spectral_witness``, ``onset_spectrum``)
 with the damping it vouches for (``_without_reasons``, ``_vouched_notes``).
@@ -27,8 +27,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_fdd.py"
-FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "supporting_peak", "fdd", "efdd", "_window_correlation", "_efdd",
-             "support_tolerance_hz", "spectral_support", "shared_peaks", "auto_mac")  # not the module's constants
+FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "maxima_near", "supporting_peak", "matching_maximum", "fdd", "efdd",
+             "_window_correlation", "_efdd", "support_tolerance_hz", "spectral_support", "own_shapes", "shared_peaks",
+             "auto_mac")  # not the module's constants
 
 PIPELINE = "modal/measured/_pipeline.py"
 PIPELINE_FUNCTIONS = ("with_spectral_witness", "onset_spectrum", "_without_reasons", "_vouched_notes",
@@ -40,6 +41,7 @@ machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS] + [(PIPELINE, name) f
     (INDICATORS, "quadrature_groups")]
 machinery.TESTS = {"_fdd.py": [  # the quickest first
     "tests/engine/identification/test_fdd.py",
+    "tests/engine/identification/test_shape_support.py",
     "tests/engine/measured/test_pipeline.py::test_spectral_witness_compares_shapes_in_each_channels_quantity",
     "tests/engine/measured/test_pipeline.py::test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
     "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks",
@@ -55,6 +57,12 @@ machinery.TESTS = {"_fdd.py": [  # the quickest first
         "test_a_mode_that_decays_within_a_welch_segment_has_its_peak_in_a_free_decay",
         "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning",
         "test_the_quadrature_warning_judges_only_well_identified_shapes")] + [
+        "tests/engine/identification/test_shape_support.py::test_the_witness_asks_the_selections_trusted_modes_for_the_shape",
+        "tests/engine/identification/test_shape_support.py::test_a_free_decays_onset_spectrum_supports_by_direction_too",
+        "tests/engine/identification/test_shape_support.py::test_a_peak_of_exactly_the_bound_takes_an_implausible_damping_back",
+        "tests/engine/identification/test_blends.py",
+        "tests/engine/identification/test_shape_support.py::test_a_direction_does_not_take_back_an_implausibly_high_damping",
+        "tests/engine/identification/test_shape_support.py::test_a_storey_frames_overlapping_upper_modes_are_each_trusted_once",
         "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks"],
     "_indicators.py": ["tests/engine/identification/test_indicators.py",
                        PIPELINE_TESTS + "test_velocities_among_accelerations_taken_as_one_quantity_draw_a_warning"]}

@@ -54,6 +54,20 @@ SUPPORT_MAX_DAMPING = 0.10
 #: with 6 dB to spare; a fixed window (:meth:`SingularValueSpectrum.peaks`,
 #: +-25 % of the frequency) sees a mode damped 8 % as the floor it stands on.
 SUPPORT_BANDWIDTHS = 4.0
+#: A mode without such a peak is supported by the direction of the spectrum
+#: instead when a local maximum of a singular value within its half-power
+#: band has a singular vector of at least this MAC with its shape (FDD's
+#: estimate of the shape there): modes that overlap leave troughs shallower
+#: than 6 dB between them (two equal modes ``2 zeta f`` apart dip 3 dB), a
+#: storey frame's upper modes, on six floors of fifteen, stood 1.6-5.9 dB ...
+SHAPE_SUPPORT_MAC = 0.9
+#: ... on at least this many channels: two unit vectors of ``C^n`` drawn at
+#: random reach a MAC ``t`` with probability ``(1 - t)^(n - 1)``, 1 % for 0.9
+#: on three channels (10 % on two) ...
+SHAPE_SUPPORT_CHANNELS = 3
+#: ... and only for a mode whose shape is its own (:func:`own_shapes`): a
+#: second estimate of a neighbour, of the neighbour's shape, matches the
+#: neighbour's singular vector as well as the neighbour does.
 #: Two modes that one singular-value peak supports are one mode estimated
 #: twice (:func:`shared_peaks`) when their shapes have at least this MAC: the
 #: peak holds one shape, and the weaker estimate's scatters more than the
@@ -68,7 +82,8 @@ SHARED_PEAK_MAC = 0.8
 #: How :func:`shared_peaks`' reason starts (``same spectral peak as 9.72 Hz (MAC 0.990)``).
 SHARED_PEAK = "same spectral peak as"
 #: Columns of :func:`spectral_support`.
-SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz", "efdd_damping"]
+SUPPORT_COLUMNS = ["sv_peak_hz", "sv_number", "sv_mac", "sv_prominence_db", "spectral_support", "efdd_freq_hz",
+                   "efdd_damping"]
 #: EFDD: the single-degree-of-freedom bell of a peak is the band around it
 #: where a kept singular vector has at least this MAC with the peak's ...
 EFDD_MAC = 0.8
@@ -184,39 +199,67 @@ class SingularValueSpectrum:
         shift = 0.5 * (left - right) / curvature if curvature < 0 else 0.0
         return float(self.freq_hz[index] + shift * self.df)
 
+    def maxima_near(self, freq_hz: float, tolerance_hz: float) -> list[tuple[int, int, float]]:
+        """The local maxima of each singular value (in dB, above the first two
+        bins) within ``tolerance_hz`` of ``freq_hz`` (a mode's half-power
+        half-width, :func:`support_tolerance_hz`), each with its prominence
+        within :data:`SUPPORT_BANDWIDTHS` times ``tolerance_hz`` on either side
+        (``scipy.signal.peak_prominences`` with that ``wlen``): the mode's
+        neighbourhood judged on its own scale.
+
+        Returns
+        -------
+        list of (int, int, float)
+            ``(bin, sv_number, prominence_db)``, by singular value, then bin.
+        """
+        from scipy.signal import peak_prominences
+
+        db = self._decibels
+        half = int(np.ceil(SUPPORT_BANDWIDTHS * tolerance_hz / self.df))
+        found = []
+        for k in range(db.shape[1]):
+            maxima = self._maxima[k]
+            maxima = maxima[(maxima >= 2) & (np.abs(self.freq_hz[maxima] - freq_hz) <= tolerance_hz)]
+            if maxima.size:
+                prominences = peak_prominences(db[:, k], maxima, wlen=2 * half + 1)[0]
+                found += [(int(index), k + 1, float(p)) for index, p in zip(maxima, prominences)]
+        return found
+
     def supporting_peak(self, freq_hz: float, tolerance_hz: float, prominence_db=PEAK_PROMINENCE_DB):
         """The local maximum of a singular value that supports a mode at
-        ``freq_hz`` whose half-power half-width is ``tolerance_hz``
-        (:func:`support_tolerance_hz`).
-
-        Of the local maxima of each singular value (in dB, above the first
-        two bins) within ``tolerance_hz`` of ``freq_hz``, those whose
-        prominence within :data:`SUPPORT_BANDWIDTHS` times ``tolerance_hz``
-        on either side (``scipy.signal.peak_prominences`` with that
-        ``wlen``) reaches ``prominence_db``; of these the nearest to
-        ``freq_hz``.
+        ``freq_hz`` whose half-power half-width is ``tolerance_hz``: of
+        :meth:`maxima_near`, those whose prominence reaches
+        ``prominence_db``, the nearest to ``freq_hz``.
 
         Returns
         -------
         tuple of (int, int, float) or None
             ``(bin, sv_number, prominence_db)`` of that maximum, or None.
         """
-        from scipy.signal import peak_prominences
-
-        db = self._decibels
-        half = int(np.ceil(SUPPORT_BANDWIDTHS * tolerance_hz / self.df))
         best = None
-        for k in range(db.shape[1]):
-            maxima = self._maxima[k]
-            maxima = maxima[(maxima >= 2) & (np.abs(self.freq_hz[maxima] - freq_hz) <= tolerance_hz)]
-            if maxima.size == 0:
-                continue
-            prominences = peak_prominences(db[:, k], maxima, wlen=2 * half + 1)[0]
-            for index, prominence in zip(maxima, prominences):
-                distance = abs(self.freq_hz[index] - freq_hz)
-                if prominence >= prominence_db and (best is None or distance < best[0]):
-                    best = (distance, int(index), k + 1, float(prominence))
+        for index, sv_number, prominence in self.maxima_near(freq_hz, tolerance_hz):
+            distance = abs(self.freq_hz[index] - freq_hz)
+            if prominence >= prominence_db and (best is None or distance < best[0]):
+                best = (distance, index, sv_number, prominence)
         return None if best is None else best[1:]
+
+    def matching_maximum(self, freq_hz: float, tolerance_hz: float, shape, mac_min=SHAPE_SUPPORT_MAC):
+        """The local maximum of :meth:`maxima_near` whose singular vector has
+        the highest MAC with ``shape`` (at the spectrum's channels), if that
+        MAC reaches ``mac_min``: the spectrum's direction there is the mode's.
+
+        Returns
+        -------
+        tuple of (int, int, float) or None
+            ``(bin, sv_number, prominence_db)`` of that maximum, or None.
+        """
+        shape = np.asarray(shape)[:, None]
+        best, best_mac = None, mac_min
+        for index, sv_number, prominence in self.maxima_near(freq_hz, tolerance_hz):
+            alike = float(mac(shape, self.vectors[index, :, sv_number - 1][:, None])[0, 0])
+            if alike >= best_mac:
+                best, best_mac = (index, sv_number, prominence), alike
+        return best
 
 
 def fdd(y, dt, nperseg=None, n_values=N_VALUES) -> SingularValueSpectrum:
@@ -360,7 +403,7 @@ def support_tolerance_hz(freq_hz, damping, df) -> np.ndarray:
 
 
 def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=None,
-                     prominence_db=PEAK_PROMINENCE_DB) -> pd.DataFrame:
+                     prominence_db=PEAK_PROMINENCE_DB, own_shape=None) -> pd.DataFrame:
     """Each mode checked against the peaks of the first singular values.
 
     A mode is supported when a local maximum of one of the singular values
@@ -370,7 +413,13 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
     (:meth:`SingularValueSpectrum.supporting_peak`): its peak judged on the
     mode's own scale, so that a heavily damped mode's broad peak counts as
     a lightly damped mode's sharp one does; of several, the nearest one
-    counts. The damping is a ratio (0.05 for 5 %).
+    counts. Without such a peak, a mode marked in ``own_shape``, on
+    :data:`SHAPE_SUPPORT_CHANNELS` channels or more, is supported by the
+    maximum within its half-width whose singular vector has a MAC of at
+    least :data:`SHAPE_SUPPORT_MAC` with its shape
+    (:meth:`SingularValueSpectrum.matching_maximum`): overlapping modes
+    leave no 6 dB troughs between them, but each turns the spectrum's
+    direction to its shape. The damping is a ratio (0.05 for 5 %).
 
     Parameters
     ----------
@@ -387,17 +436,22 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         two bins.
     prominence_db : float
         Prominence a supporting maximum needs (dB).
+    own_shape : array_like of bool, shape (n_modes,), optional
+        The modes whose shape no other trusted mode shares (:func:`own_shapes`),
+        which their singular vector may support; none by default.
 
     Returns
     -------
     pandas.DataFrame
-        One row per mode: ``sv_peak_hz`` (the supporting peak's frequency,
+        One row per mode: ``sv_peak_hz`` (the supporting maximum's frequency,
         NaN without one), ``sv_number`` (which singular value peaks there:
         1 the first, 0 none), ``sv_mac`` (MAC between the mode's shape and
         that singular value's vector at the peak bin; NaN without a peak),
-        ``spectral_support`` (a peak was found), and the cross-check
-        ``efdd_freq_hz`` and ``efdd_damping`` of that peak (:func:`efdd`; NaN
-        without a peak or when its bell decays too fast to fit).
+        ``sv_prominence_db`` (that maximum's prominence: below
+        ``prominence_db`` where the shape alone supports the mode),
+        ``spectral_support`` (a maximum was found), and the cross-check
+        ``efdd_freq_hz`` and ``efdd_damping`` of that maximum (:func:`efdd`;
+        NaN without one or when its bell decays too fast to fit).
     """
     freq_hz = finite_array("freq_hz", np.atleast_1d(freq_hz), ndim=(1,)) if np.size(freq_hz) else np.empty(0)
     shapes = np.asarray(shapes)
@@ -405,26 +459,56 @@ def spectral_support(spectrum: SingularValueSpectrum, freq_hz, shapes, damping=N
         raise ValueError(f"shapes must be (n_channels, n_modes) = ({spectrum.vectors.shape[1]}, {freq_hz.size}), "
                          f"got {shapes.shape}")
     damping = np.full(freq_hz.size, np.nan) if damping is None else np.asarray(damping, dtype=float)
+    own_shape = np.zeros(freq_hz.size, dtype=bool) if own_shape is None else np.asarray(own_shape, dtype=bool)
+    if own_shape.shape != freq_hz.shape:
+        raise ValueError(f"own_shape must have one entry per mode ({freq_hz.size}), got shape {own_shape.shape}")
+    by_shape = shapes.shape[0] >= SHAPE_SUPPORT_CHANNELS
     tolerance = support_tolerance_hz(freq_hz, damping, spectrum.df)
     bins = spectrum.peaks(prominence_db)["bin"].to_numpy()  # the neighbours that bound an EFDD bell
     window = _window_correlation(spectrum.nperseg) if freq_hz.size else None  # once for every mode's EFDD
     rows = []
     for m, f in enumerate(freq_hz):
         peak = spectrum.supporting_peak(f, tolerance[m], prominence_db)
+        if peak is None and by_shape and own_shape[m]:
+            peak = spectrum.matching_maximum(f, tolerance[m], shapes[:, m])
         if peak is None:
-            rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "spectral_support": False,
-                         "efdd_freq_hz": np.nan, "efdd_damping": np.nan})
+            rows.append({"sv_peak_hz": np.nan, "sv_number": 0, "sv_mac": np.nan, "sv_prominence_db": np.nan,
+                         "spectral_support": False, "efdd_freq_hz": np.nan, "efdd_damping": np.nan})
             continue
-        here, sv_number, _ = peak
+        here, sv_number, prominence = peak
         vector = spectrum.vectors[here, :, sv_number - 1]
         below, above = bins[bins < here], bins[bins > here]
         limits = ((here + below.max()) // 2 + 1 if below.size else 1,
                   (here + above.min()) // 2 if above.size else len(spectrum.freq_hz) - 1)
         efdd_freq_hz, efdd_damping = _efdd(spectrum, here, sv_number - 1, limits, window)
         rows.append({"sv_peak_hz": spectrum.refined_hz(here, sv_number), "sv_number": sv_number,
-                     "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "spectral_support": True,
-                     "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})
+                     "sv_mac": float(mac(shapes[:, m:m + 1], vector[:, None])[0, 0]), "sv_prominence_db": prominence,
+                     "spectral_support": True, "efdd_freq_hz": efdd_freq_hz, "efdd_damping": efdd_damping})
     return pd.DataFrame(rows, columns=SUPPORT_COLUMNS)
+
+
+def own_shapes(shapes, trusted, mac_max=SHARED_PEAK_MAC) -> np.ndarray:
+    """Which modes have a shape of their own: a MAC below ``mac_max`` with
+    every other mode marked ``trusted`` (a mode's second estimate shares
+    the first's shape; two modes of their own, even of one peak, do not).
+
+    Parameters
+    ----------
+    shapes : array_like, shape (n_channels, n_modes)
+    trusted : array_like of bool, shape (n_modes,)
+    mac_max : float
+
+    Returns
+    -------
+    ndarray of bool, shape (n_modes,)
+    """
+    alike = auto_mac(shapes)
+    trusted = np.asarray(trusted, dtype=bool)
+    if trusted.shape != (alike.shape[0],):
+        raise ValueError(f"trusted must have one entry per mode ({alike.shape[0]}), got shape {trusted.shape}")
+    others = (alike >= mac_max) & trusted[None, :]
+    np.fill_diagonal(others, False)
+    return ~others.any(axis=1)
 
 
 def shared_peaks(freq_hz, support: pd.DataFrame, shapes, n_poles, mac_min, shadows=None, doubtful=None) -> list[str]:

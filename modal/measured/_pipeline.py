@@ -754,8 +754,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     a fraction of a Welch segment is judged on the decay's first samples."""
     import dataclasses
 
-    from ..identification import (DAMPED_ABOVE, QUANTITIES, SAME_SHAPE, SHARED_PEAK, SHARED_PEAK_MAC, blends,
-                                  shared_peaks, spectral_support)
+    from ..identification import (DAMPED_ABOVE, PEAK_PROMINENCE_DB, QUANTITIES, SAME_SHAPE, SHARED_PEAK,
+                                  SHARED_PEAK_MAC, blends, own_shapes, shared_peaks, spectral_support)
 
     modes = result.modes
     identified = _identified_shapes(result)
@@ -766,10 +766,18 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
         zeta = np.clip(np.nan_to_num(damping), 0.0, 1.0)
         pole = 2 * np.pi * freq_hz * (-zeta + 1j * np.sqrt(1 - zeta**2))
         shapes = np.asarray(shapes, dtype=complex) * pole[None, :] ** relative[:, None]
-    support = spectral_support(spectrum, freq_hz, shapes, damping=damping)
+    own = None
+    if "flag" in modes:
+        # the reasons a witness applied before gave, taken away: applied twice, it flags as once
+        before = modes["flag"]
+        for marker in (NO_SPECTRAL_PEAK, SHARED_PEAK, BLEND):
+            before = _without_reasons(before, marker)
+        own = own_shapes(identified, [flag == "" for flag in _flag_texts(before)])  # the selection's trusted modes
+    support = spectral_support(spectrum, freq_hz, shapes, damping=damping, own_shape=own)
     lacking = ~support["spectral_support"].to_numpy(bool)
     if onset is not None and lacking.any():
-        second = spectral_support(onset, freq_hz[lacking], np.asarray(shapes)[:, lacking], damping=damping[lacking])
+        second = spectral_support(onset, freq_hz[lacking], np.asarray(shapes)[:, lacking], damping=damping[lacking],
+                                  own_shape=None if own is None else own[lacking])
         for column in support.columns:
             values = support[column].to_numpy(copy=True)
             values[lacking] = second[column].to_numpy()
@@ -777,11 +785,8 @@ def with_spectral_witness(result: Stabilisation, spectrum, quantities=None, onse
     modes = _with_columns(modes, support)
     if "flag" in modes:
         supported = support["spectral_support"].to_numpy(bool)
-        # the reasons a witness applied before gave, taken away: applied twice, it flags as once
-        before = modes["flag"]
-        for marker in (NO_SPECTRAL_PEAK, SHARED_PEAK, BLEND):
-            before = _without_reasons(before, marker)
-        modes["flag"] = _without_reasons(before, DAMPED_ABOVE, supported)
+        peaked = supported & (support["sv_prominence_db"].to_numpy(dtype=float) >= PEAK_PROMINENCE_DB)
+        modes["flag"] = _without_reasons(before, DAMPED_ABOVE, peaked)  # a peak of its own, not only a direction
         notes = _vouched_notes(result.notes, modes, before)
         flags = _flag_texts(modes["flag"])
         shadows = np.array([flag.startswith(SAME_SHAPE) for flag in flags], dtype=bool)

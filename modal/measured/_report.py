@@ -32,7 +32,8 @@ MODE_HEADINGS = {
     "mode": "mode", "freq_hz": "frequency (Hz)", "freq_std_hz": "std (Hz)", "damping": "damping (%)",
     "damping_std": "std (%)", "n_poles": "poles", "mpc": "MPC", "mpd": "MPD (°)", "close": "close",
     "close_mac": "MAC nearest", "sv_peak_hz": "SV peak (Hz)", "sv_number": "SV", "sv_mac": "SV MAC",
-    "spectral_support": "spectral peak", "efdd_freq_hz": "EFDD (Hz)", "efdd_damping": "EFDD damping (%)",
+    "sv_prominence_db": "SV prominence (dB)", "spectral_support": "spectral peak", "efdd_freq_hz": "EFDD (Hz)",
+    "efdd_damping": "EFDD damping (%)",
     "second_freq_hz": "2nd estimate (Hz)", "envelope_cv": "envelope CV", "flag": "flag",
 }
 #: ... of a roving test's merged modes.
@@ -102,6 +103,8 @@ def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) 
     shape with that peak's singular vector, and its flag. Of a record of
     one channel (``n_channels``) the MPC and the MAC are 1 by construction
     and no evidence: left out."""
+    from ..identification import PEAK_PROMINENCE_DB
+
     shaped = n_channels is None or n_channels > 1
     lines = []
     for row in modes.to_dict("records"):
@@ -117,11 +120,18 @@ def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) 
                 number = int(row["sv_number"])
                 which = {1: "first", 2: "second", 3: "third"}.get(number, f"{number}th")
                 alike = row["sv_mac"] >= SHAPE_AGREES
-                parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz"
-                             + ("" if not shaped else
-                                f" (shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
-                                f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
-                                "another mode's peak, or two modes in one"))
+                prominence = row.get("sv_prominence_db", np.nan)
+                if prominence < PEAK_PROMINENCE_DB:  # supported by its direction alone (modal.spectral_support)
+                    parts.append(f"a shoulder of the {which} singular value at {row['sv_peak_hz']:.4g} Hz "
+                                 f"({prominence:.1f} dB, under the {PEAK_PROMINENCE_DB:g} dB of a peak: modes that "
+                                 f"overlap) whose singular vector is this shape (MAC {row['sv_mac']:.2f}) and no "
+                                 "other trusted mode's")
+                else:
+                    parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz"
+                                 + ("" if not shaped else
+                                 f" (shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
+                                 f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
+                                 "another mode's peak, or two modes in one"))
                 if np.isfinite(row.get("efdd_freq_hz", np.nan)):
                     parts.append(f"that peak's EFDD cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
                                  f"{PERCENT * row['efdd_damping']:.2g} %")

@@ -72,7 +72,7 @@ def _same_diagram(got, expected, ambient=True):
     # identify_record adds the spectral witness's columns (modal.spectral_support) to the diagram's modes, and of
     # an ambient record the harmonic check's (modal.identification.envelope_variation)
     assert list(result.modes.columns) == [*reference.modes.columns, "sv_peak_hz", "sv_number", "sv_mac",
-                                          "spectral_support", "efdd_freq_hz", "efdd_damping",
+                                          "sv_prominence_db", "spectral_support", "efdd_freq_hz", "efdd_damping",
                                           *(["envelope_cv", "envelope_values"] if ambient else [])]
     # the uncertainty columns come from the record's segments, which identify_record cuts and a bare
     # stabilisation call does not get (tests/engine/measured/test_uncertainty.py covers them)
@@ -245,8 +245,8 @@ def test_the_witness_carries_each_entry_into_its_channels_quantity_by_the_damped
                                                      quantities=["velocity", "displacement", "acceleration"])
     modes = witnessed.modes
     assert modes.index.tolist() == [7] and "flag" not in modes
-    assert modes.columns.tolist()[-6:] == ["sv_peak_hz", "sv_number", "sv_mac", "spectral_support", "efdd_freq_hz",
-                                           "efdd_damping"]
+    assert modes.columns.tolist()[-7:] == ["sv_peak_hz", "sv_number", "sv_mac", "sv_prominence_db",
+                                           "spectral_support", "efdd_freq_hz", "efdd_damping"]
     assert bool(modes["spectral_support"].iloc[0]) and modes["sv_number"].iloc[0] == 1
     assert modes["sv_mac"].iloc[0] == pytest.approx(1.0, abs=1e-12)
     undamped_phase = phi * np.conj(s) ** np.array([0, -1, 1]) * -1
