@@ -133,7 +133,8 @@ def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) 
                                  f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
                                  "another mode's peak, or two modes in one"))
                 if np.isfinite(row.get("efdd_freq_hz", np.nan)):
-                    parts.append(f"that peak's EFDD cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
+                    parts.append(f"that {'shoulder' if prominence < PEAK_PROMINENCE_DB else 'peak'}'s EFDD "
+                                 f"cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
                                  f"{PERCENT * row['efdd_damping']:.2g} %")
             else:
                 parts.append("no singular-value peak near it")

@@ -284,3 +284,16 @@ def test_a_peak_of_exactly_the_bound_takes_an_implausible_damping_back(monkeypat
     assert with_spectral_witness(two_modes(own, flag_2=high), spectrum).modes["flag"].iloc[1] == ""
     monkeypatch.setattr(modal.identification, "PEAK_PROMINENCE_DB", np.nextafter(exact, np.inf))
     assert with_spectral_witness(two_modes(own, flag_2=high), spectrum).modes["flag"].iloc[1] == high
+
+
+def test_the_report_tells_a_shoulder_from_a_peak():
+    """``evidence`` (the report's sentence per mode): below 6 dB the
+    support is a shoulder of the mode's own shape, at 6 dB a peak."""
+    from modal.measured._report import evidence
+
+    row = {"mode": 1, "freq_hz": 5.0, "n_poles": 20, "spectral_support": True, "sv_number": 2, "sv_peak_hz": 5.1,
+           "sv_mac": 0.97, "efdd_freq_hz": 5.05, "efdd_damping": 0.02, "flag": ""}
+    shoulder, peak = evidence(pd.DataFrame([{**row, "sv_prominence_db": 3.04}, {**row, "sv_prominence_db": 6.0}]), 30)
+    assert "a shoulder of the second singular value at 5.1 Hz (3.0 dB, under the 6 dB of a peak" in shoulder
+    assert "(MAC 0.97) and no other trusted mode's, that shoulder's EFDD cross-check 5.05 Hz" in shoulder
+    assert "a peak of the second singular value at 5.1 Hz (shape MAC 0.97" in peak and "shoulder" not in peak
