@@ -61,13 +61,13 @@ SUPPORT_BANDWIDTHS = 4.0
 #: than 6 dB between them (two equal modes ``2 zeta f`` apart dip 3 dB), a
 #: storey frame's upper modes, on six floors of fifteen, stood 1.6-5.9 dB ...
 SHAPE_SUPPORT_MAC = 0.9
-#: ... on at least this many channels: two unit vectors of ``C^n`` drawn at
+#: ... on at least this many channels (two unit vectors of ``C^n`` drawn at
 #: random reach a MAC ``t`` with probability ``(1 - t)^(n - 1)``, 1 % for 0.9
-#: on three channels (10 % on two) ...
+#: on three channels, 10 % on two), and only for a mode whose shape is its
+#: own (:func:`own_shapes`): a second estimate of a neighbour, of the
+#: neighbour's shape, matches the neighbour's singular vector as well as the
+#: neighbour does.
 SHAPE_SUPPORT_CHANNELS = 3
-#: ... and only for a mode whose shape is its own (:func:`own_shapes`): a
-#: second estimate of a neighbour, of the neighbour's shape, matches the
-#: neighbour's singular vector as well as the neighbour does.
 #: Two modes that one singular-value peak supports are one mode estimated
 #: twice (:func:`shared_peaks`) when their shapes have at least this MAC: the
 #: peak holds one shape, and the weaker estimate's scatters more than the

@@ -121,7 +121,8 @@ def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) 
                 which = {1: "first", 2: "second", 3: "third"}.get(number, f"{number}th")
                 alike = row["sv_mac"] >= SHAPE_AGREES
                 prominence = row.get("sv_prominence_db", np.nan)
-                if prominence < PEAK_PROMINENCE_DB:  # supported by its direction alone (modal.spectral_support)
+                shoulder = prominence < PEAK_PROMINENCE_DB  # supported by its direction alone (modal.spectral_support)
+                if shoulder:
                     parts.append(f"a shoulder of the {which} singular value at {row['sv_peak_hz']:.4g} Hz "
                                  f"({prominence:.1f} dB, under the {PEAK_PROMINENCE_DB:g} dB of a peak: modes that "
                                  f"overlap) whose singular vector is this shape (MAC {row['sv_mac']:.2f}) and no "
@@ -129,13 +130,12 @@ def evidence(modes: pd.DataFrame, n_orders: int, n_channels: int | None = None) 
                 else:
                     parts.append(f"a peak of the {which} singular value at {row['sv_peak_hz']:.4g} Hz"
                                  + ("" if not shaped else
-                                 f" (shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
-                                 f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
-                                 "another mode's peak, or two modes in one"))
+                                    f" (shape MAC {row['sv_mac']:.2f} with its singular vector)" if alike else
+                                    f" whose singular vector is not this shape (MAC {row['sv_mac']:.2f}): "
+                                    "another mode's peak, or two modes in one"))
                 if np.isfinite(row.get("efdd_freq_hz", np.nan)):
-                    parts.append(f"that {'shoulder' if prominence < PEAK_PROMINENCE_DB else 'peak'}'s EFDD "
-                                 f"cross-check {row['efdd_freq_hz']:.4g} Hz and damping "
-                                 f"{PERCENT * row['efdd_damping']:.2g} %")
+                    parts.append(f"that {'shoulder' if shoulder else 'peak'}'s EFDD cross-check "
+                                 f"{row['efdd_freq_hz']:.4g} Hz and damping {PERCENT * row['efdd_damping']:.2g} %")
             else:
                 parts.append("no singular-value peak near it")
         flag = row.get("flag")
