@@ -31,8 +31,20 @@ AUTO_PERIODS = 1
 DECAY_PERIODS = 3
 #: ... and the record is decimated to about this many samples per period of
 #: that peak (at most), so the band kept reaches some ``AUTO_SAMPLES / 2.5``
-#: = 27 times it.
+#: = 27 times it ...
 AUTO_SAMPLES = 200 / 3
+#: ... and never so far that the highest prominent peak, times this, leaves
+#: the anti-aliasing filter's pass band: a beam's modes lie at ``n^2`` times
+#: its first (its sixth at 36 times), a tall building's span 20 times and
+#: more; a mode at the highest peak keeps its half-power band (``1 + zeta``)
+#: and room for a weaker one above it in the band ...
+AUTO_BAND = 1.25
+#: ... unless that leaves more than this many samples per period of the lowest
+#: peak: the rows span that period, and a Hankel matrix of 512 block rows per
+#: channel is already some seconds' work; a band wider than about
+#: ``AUTO_MAX_SAMPLES / (2.5 AUTO_BAND)`` = 164 times the lowest peak takes
+#: ``fmax`` (the log says so).
+AUTO_MAX_SAMPLES = 512
 #: Ambient records are also cut into this many non-overlapping segments,
 #: whose correlations give the standard deviation of each frequency and
 #: damping (:func:`modal.identification.segment_std`): fewer when a segment
@@ -65,22 +77,22 @@ CORRELATION_ESTIMATOR = "unbiased"
 LOWEST_PEAK_BINS = 3
 
 
-def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
-    """The lowest prominent peak of a record's spectrum (Hz), or None.
+def prominent_peaks_hz(y, dt, prominence_db=6.0) -> np.ndarray:
+    """The prominent peaks of a record's spectrum (Hz), ascending.
 
     Welch's averaged spectrum (scipy.signal.welch, segments of the largest
     power of two up to an eighth of the record), each channel normalised
-    to its maximum, averaged over channels, in dB; the lowest peak
-    (scipy.signal.find_peaks) at least ``prominence_db`` above its
+    to its maximum, averaged over channels, in dB; its peaks
+    (scipy.signal.find_peaks) at least ``prominence_db`` above their
     surroundings, above :data:`LOWEST_PEAK_BINS` frequency bins and ten
     periods per record (the record cannot resolve lower: drift and trends
-    lie there).
+    lie there). Empty for a record of fewer than 64 samples.
     """
     from scipy.signal import find_peaks, welch
 
     n = y.shape[0]
     if n < 64:
-        return None
+        return np.empty(0)
     nperseg = 2 ** int(np.log2(n / 8)) if n >= 256 else n
     level = 0.0
     for c in range(y.shape[1]):  # channel by channel: welch's segments of one channel at a time in memory
@@ -89,8 +101,30 @@ def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
     db = 10 * np.log10(level + 1e-300)
     peaks, _ = find_peaks(db, prominence=prominence_db)
     floor = max(LOWEST_PEAK_BINS * freqs[1], 10 / (n * dt))
-    peaks = peaks[freqs[peaks] > floor]
-    return float(freqs[peaks[0]]) if len(peaks) else None
+    return freqs[peaks[freqs[peaks] > floor]]
+
+
+def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
+    """The lowest of :func:`prominent_peaks_hz` (Hz), or None without one."""
+    peaks = prominent_peaks_hz(y, dt, prominence_db)
+    return float(peaks[0]) if len(peaks) else None
+
+
+def auto_decimation(dt, peaks_hz) -> int:
+    """The decimation factor, without ``fmax``, of a record sampled every
+    ``dt`` s whose spectrum peaks at ``peaks_hz`` (:func:`prominent_peaks_hz`,
+    ascending): down to about :data:`AUTO_SAMPLES` samples per period of
+    the lowest peak, but no further than keeps :data:`AUTO_BAND` times the
+    highest inside the anti-aliasing filter's pass band (as ``fmax`` would:
+    :meth:`IdentifyOptions.decimation`), and at least down to
+    :data:`AUTO_MAX_SAMPLES` per period of the lowest. 1: none (also
+    without a peak)."""
+    if not len(peaks_hz):
+        return 1
+    low, high = peaks_hz[0], peaks_hz[-1]
+    by_lowest = int(1 / (dt * AUTO_SAMPLES * low))
+    by_highest = max(int(1 / (dt * 2.5 * AUTO_BAND * high)), int(1 / (dt * AUTO_MAX_SAMPLES * low)))
+    return max(1, min(by_lowest, by_highest))
 
 #: A channel whose linear trend leaves less than this fraction of its peak
 #: magnitude (rms of the remainder against the largest raw value) holds no
@@ -496,13 +530,15 @@ def identify_record(
                 f"modes are selected below {fmax:g} Hz")
         rows = options.fixed_rows(n_channels)
     elif rows is None:
-        low = lowest_peak_hz(y, dt)
+        peaks = prominent_peaks_hz(y, dt)
+        low = float(peaks[0]) if len(peaks) else None
         chosen["lowest_peak_hz"] = low
+        chosen["highest_peak_hz"] = float(peaks[-1]) if len(peaks) else None
         if low is None:
             log(f"no spectral peak found: {min_rows} block rows, no decimation")
             rows = min_rows
         else:
-            factor = max(1, int(1 / (dt * AUTO_SAMPLES * low)))
+            factor, alone = auto_decimation(dt, peaks), auto_decimation(dt, peaks[:1])
             if factor >= 2:
                 y, dt = decimate(y, dt, factor)
                 chosen["decimation"] = factor
@@ -513,7 +549,13 @@ def identify_record(
             span = f"{rows * dt * low:.2g}"
             log(f"lowest spectral peak {low:.4g} Hz: {rows} block rows span {rows * dt:.3g} s "
                 f"({span} period{'' if span == '1' else 's'} of it)"
-                + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "") + " (set --fmax and --rows to choose)")
+                + (f", decimated by {factor} to {1 / dt:g} Hz" if factor >= 2 else "")
+                + (f", the highest spectral peak {peaks[-1]:.4g} Hz kept in the band (the lowest alone would decimate "
+                   f"by {alone})" if factor < alone else "") + " (set --fmax and --rows to choose)")
+            lost = peaks[peaks * 2.5 * AUTO_BAND > 1 / dt] if factor >= 2 else peaks[:0]
+            if len(lost):
+                log(f"spectral peaks above the band kept ({', '.join(f'{f:.4g}' for f in lost)} Hz): more than "
+                    f"{AUTO_MAX_SAMPLES} samples per period of the lowest peak would be needed; set --fmax to identify them")
     if options.highpass_hz is not None:
         log(f"high-pass at {options.highpass_hz:g} Hz")
         y = zero_phase_filter(y, dt, highpass_hz=options.highpass_hz)
