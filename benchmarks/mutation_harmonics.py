@@ -12,10 +12,10 @@ targets, the tests and the list of equivalent survivors
 - ``modal/identification/_envelope.py``: ``envelope_variation``, ``steady``
   and the module's constants (the thresholds and the band are the rule);
 - ``modal/measured/_pipeline.py``: ``with_harmonic_check``, ``_with_columns``,
-  ``_with_reasons``, ``lowest_peak_hz`` and the constant
-  ``LOWEST_PEAK_BINS``, and within ``identify_record`` only the block-rows
-  rule from the lowest peak (the ``elif rows is None:`` branch) and the
-  harmonic check's call and log line;
+  ``_with_reasons``, ``lowest_peak_hz``, ``spectral_peaks`` (the peaks and
+  their heights) and the constant ``LOWEST_PEAK_BINS``, and within
+  ``identify_record`` only the block-rows and band rule from the peaks (the
+  ``elif rows is None:`` branch) and the harmonic check's call and log line;
 - ``modal/identification/_stabilisation.py``: ``channel_levels`` and, of the
   single-channel flag, the lines that use the levels (``stabilisation``'s
   call, ``_select_modes``' ``visible``, ``_flags``' share and its test).
@@ -39,7 +39,7 @@ STABILISATION = "modal/identification/_stabilisation.py"
 
 machinery.TARGETS = [(ENVELOPE, None), (ENVELOPE, "envelope_variation"), (ENVELOPE, "steady"),
                      (PIPELINE, "with_harmonic_check"), (PIPELINE, "_with_columns"), (PIPELINE, "_with_reasons"),
-                     (PIPELINE, "lowest_peak_hz"), (PIPELINE, "identify_record"), (PIPELINE, None),
+                     (PIPELINE, "lowest_peak_hz"), (PIPELINE, "spectral_peaks"), (PIPELINE, "identify_record"), (PIPELINE, None),
                      (STABILISATION, "channel_levels"), (STABILISATION, "stabilisation"),
                      (STABILISATION, "_select_modes"), (STABILISATION, "_flags")]
 
@@ -50,7 +50,7 @@ LINES = {
     (PIPELINE, None): ["LOWEST_PEAK_BINS = "],
     (PIPELINE, "identify_record"): [("    elif rows is None:", "    if options.highpass_hz is not None:"),
                                     "result = with_harmonic_check(result, y, dt)",
-                                    'harmonics = result.modes.loc[', 'if len(harmonics):',
+                                    'harmonics = freq_hz[[HARMONIC in flag', 'if len(harmonics):',
                                     'log("steady amplitude (a harmonic'],
     (STABILISATION, "stabilisation"): ["channel_levels=channel_levels("],
     (STABILISATION, "_select_modes"): ["visible = np.abs(mode_shapes) / "],
@@ -89,6 +89,7 @@ machinery.mutants = mutants
 TRUST = "tests/engine/identification/test_selection_trust.py::"
 HARMONICS = "tests/engine/identification/test_harmonics.py::"
 MUTANTS = "tests/engine/identification/test_mode_selection_mutants.py::"
+AUTO_BAND = "tests/engine/identification/test_auto_band.py::"
 NEW_ENVELOPE = [HARMONICS + t for t in (
     "test_the_band_is_f_plus_minus_four_zeta_f_or_a_percent_of_f_its_edges_included",
     "test_the_band_stops_at_bin_1_and_at_the_nyquist_bin",
@@ -111,6 +112,11 @@ machinery.TESTS = {  # the quickest first
         "test_settings_from_the_lowest_peak[None-10-lines0-1]", "test_settings_from_the_lowest_peak[20.0-10-lines6-1]",
         "test_a_free_decay_keeps_three_periods_and_sixty_rows[10-None]",
         "test_a_free_decay_keeps_three_periods_and_sixty_rows[10-line0]")] + [
+        AUTO_BAND + "test_peaks_ascending_above_the_floor",
+        AUTO_BAND + "test_a_peaks_height_is_over_the_median_within_a_quarter_of_its_frequency",
+        AUTO_BAND + "test_a_band_too_wide_for_one_model_is_logged",
+        AUTO_BAND + "test_a_beams_modes_up_to_the_highest_peak_with_default_options",
+        AUTO_BAND + "test_maxima_of_a_noise_floor_do_not_widen_the_band"] + [
         CHECK, HARMONICS + "test_the_log_names_every_harmonic_in_one_line",
         HARMONICS + "test_identify_record_flags_a_wandering_harmonic_and_no_mode"],
     "_stabilisation.py": [TRUST + t for t in (

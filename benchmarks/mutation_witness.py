@@ -27,7 +27,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import mutation_campaign as machinery  # noqa: E402
 
 SOURCE = "modal/identification/_fdd.py"
-FUNCTIONS = ("df", "decibels", "peaks", "refined_hz", "maxima_near", "supporting_peak", "matching_maximum", "fdd", "efdd",
+FUNCTIONS = ("df", "decibels", "height_above_median_db", "peaks", "refined_hz", "maxima_near", "supporting_peak", "matching_maximum", "fdd", "efdd",
              "_window_correlation", "_efdd", "support_tolerance_hz", "spectral_support", "own_shapes", "shared_peaks",
              "auto_mac")  # not the module's constants
 
@@ -42,6 +42,7 @@ machinery.TARGETS = [(SOURCE, name) for name in FUNCTIONS] + [(PIPELINE, name) f
 machinery.TESTS = {"_fdd.py": [  # the quickest first
     "tests/engine/identification/test_fdd.py",
     "tests/engine/identification/test_shape_support.py",
+    "tests/engine/identification/test_auto_band.py::test_a_peaks_height_is_over_the_median_within_a_quarter_of_its_frequency",
     "tests/engine/measured/test_pipeline.py::test_spectral_witness_compares_shapes_in_each_channels_quantity",
     "tests/engine/measured/test_pipeline.py::test_a_second_mode_on_the_first_ones_peak_and_shape_is_named_so",
     "tests/engine/measured/test_report.py::test_modes_are_checked_against_the_singular_value_peaks",

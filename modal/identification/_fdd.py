@@ -95,6 +95,17 @@ EFDD_RANGE_DB = 20.0
 EFDD_LEVELS = (0.9, 0.1)
 
 
+def height_above_median_db(db, index: int, freq_hz: float, df: float) -> float:
+    """How far ``db[index]``, a level in dB at ``freq_hz`` on bins ``df`` Hz
+    apart, stands above the median of ``db`` within :data:`PEAK_WINDOW` of its
+    frequency (at least :data:`PEAK_WINDOW_BINS` bins either side): a mode's
+    peak stands above the floor of noise around it, a maximum of the
+    spectral estimate's random error a few dB above its neighbours'
+    median."""
+    half = max(PEAK_WINDOW_BINS, int(PEAK_WINDOW * freq_hz / df))
+    return float(db[index] - np.median(db[max(0, index - half):index + half + 1]))
+
+
 @dataclass(frozen=True)
 class SingularValueSpectrum:
     """The singular values of a record's spectral density matrix.
@@ -176,8 +187,7 @@ class SingularValueSpectrum:
             for index, prominence in zip(found, properties["prominences"]):
                 if index < 2 or (fmax is not None and self.freq_hz[index] > fmax):
                     continue
-                half = max(PEAK_WINDOW_BINS, int(PEAK_WINDOW * self.freq_hz[index] / self.df))
-                height = db[index, k] - np.median(db[max(0, index - half):index + half + 1, k])
+                height = height_above_median_db(db[:, k], index, self.freq_hz[index], self.df)
                 if height < height_db:
                     continue
                 rows.append({"freq_hz": self.refined_hz(index, k + 1), "sv_number": k + 1, "bin": int(index),

@@ -799,6 +799,15 @@ def leftover_snakemake(folder, cwd, ignore_sigint=False) -> subprocess.Popen:
     return subprocess.Popen([str(script), "--cores", "1"], cwd=cwd)
 
 
+def started_job(pid) -> int:
+    """The one job of the left Snakemake ``pid``, once it runs its own
+    program: a child seen between fork and exec still holds its parent's
+    signal handlers, and a SIGINT that reaches it then is lost with them."""
+    expected = f"{sys.executable} -c import time; time.sleep(60)"
+    wait_until(lambda: len(descendants(pid)) == 1 and " ".join(modal._locks._argv(descendants(pid)[0])) == expected)
+    return descendants(pid)[0]
+
+
 def test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_else(tmp_path):
     here, elsewhere = tmp_path / "here", tmp_path / "elsewhere"
     here.mkdir()
@@ -806,8 +815,7 @@ def test_a_run_left_working_in_the_folder_is_stopped_with_its_jobs_and_nothing_e
     left = leftover_snakemake(tmp_path, here)
     others = [sleeper(here, "snakemake"), fake_snakemake(tmp_path, elsewhere)]  # no run here
     try:
-        wait_until(lambda: len(descendants(left.pid)) == 1)
-        job = descendants(left.pid)[0]
+        job = started_job(left.pid)
         # no lock held: no run is interrupted (a dry run takes none)
         assert stop_leftover_run(here, grace=5.0) == ({}, {})
         assert left.poll() is None
@@ -829,8 +837,7 @@ def test_a_left_run_that_does_not_stop_on_sigint_is_returned_alive(tmp_path):
     (tmp_path / "here" / ".snakemake" / "locks" / "0.input.lock").write_text("")
     stubborn = leftover_snakemake(tmp_path, tmp_path / "here", ignore_sigint=True)
     try:
-        wait_until(lambda: len(descendants(stubborn.pid)) == 1)
-        job = descendants(stubborn.pid)[0]
+        job = started_job(stubborn.pid)
         stopped, alive = stop_leftover_run(tmp_path / "here", grace=0.5)
         assert set(stopped) == {job} and set(alive) == {stubborn.pid} and stubborn.poll() is None
     finally:

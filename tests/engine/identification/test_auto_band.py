@@ -53,6 +53,28 @@ def test_peaks_ascending_above_the_floor():
     assert _pipeline.lowest_peak_hz(y, 1 / fs) == 5.0
     assert prominent_peaks_hz(np.zeros((1000, 2)), 1 / fs).size == 0
     assert prominent_peaks_hz(y[:63], 1 / fs).size == 0
+    assert [part.size for part in _pipeline.spectral_peaks(y[:63], 1 / fs)] == [0, 0]
+
+
+def test_a_peaks_height_is_over_the_median_within_a_quarter_of_its_frequency(monkeypatch):
+    """``spectral_peaks`` with its defaults, on a given averaged spectrum
+    (bins of 0.125 Hz, level 1): a peak 6.5 dB above its surroundings at 5
+    Hz is one, 5.7 dB at 7.5 Hz is not (prominence 6 dB); a peak of 100 at
+    bin 160 (20 Hz) in a trough of +-20 bins at 1 between shelves at 5 out
+    to +-60: within +-25 % of 20 Hz (+-40 bins) 40 bins lie at 1, 40 at 5,
+    so the median is 5 and the height 10 log10(100 / 5) = 13.0 dB (over
+    +-20 bins it would be 20 dB); the 5 Hz peak's window is the ten bins
+    either side (+-25 % is 10 bins), its height its 6.5 dB."""
+    import scipy.signal
+
+    power = np.ones(300)
+    power[100:140] = power[181:221] = 5.0
+    power[160], power[40], power[60] = 100.0, 10**0.65, 10**0.57
+    monkeypatch.setattr(scipy.signal, "welch", lambda x, fs, nperseg: (0.125 * np.arange(300), power))
+    peaks, heights = _pipeline.spectral_peaks(np.zeros((100000, 1)), 0.01)
+    assert 5.0 in peaks and 7.5 not in peaks
+    assert heights[peaks.tolist().index(5.0)] == pytest.approx(6.5)
+    assert heights[peaks.tolist().index(20.0)] == pytest.approx(10 * np.log10(20))
 
 
 def beam_record(seconds=200.0, fs=400.0, seed=5):
@@ -85,6 +107,7 @@ def test_a_beams_modes_up_to_the_highest_peak_with_default_options():
     assert settings["highest_peak_hz"] == pytest.approx(128.0, abs=0.5)
     line = next(entry for entry in log if entry.startswith("lowest spectral peak"))
     assert re.search(r"the highest spectral peak 12[78]\.\d Hz kept in the band \(the lowest alone would decimate by 2\)", line)
+    assert not [entry for entry in log if entry.startswith("spectral peaks above the band kept")]  # none: not decimated
     modes = result.modes
     trusted = modes[modes["flag"].fillna("") == ""]["freq_hz"].to_numpy()
     nearest = np.min(np.abs(trusted[:, None] / f_true[None, :] - 1), axis=0)
@@ -96,8 +119,12 @@ def test_a_band_too_wide_for_one_model_is_logged(monkeypatch):
     """Peaks from 0.1 to 60 Hz of a 128 Hz record: the band would need 1280
     samples per period of 0.1 Hz; at most 512, so decimated by 2 to 64 Hz,
     and the log names the peaks left out (22 Hz: 1.25 x 22 lies beyond the
-    filter's edge at 25.6 Hz; 20 Hz stays) and the option that keeps them."""
-    monkeypatch.setattr(_pipeline, "prominent_peaks_hz", lambda y, dt: np.array([0.1, 20.0, 22.0, 60.0]))
+    filter's edge at 25.6 Hz; 20 Hz stays, and 20.48 Hz, whose 1.25 x lies
+    exactly on it) and the option that keeps them;
+    a peak that stands less than 6 dB above the level around it (30 Hz)
+    neither widens the band nor is named."""
+    monkeypatch.setattr(_pipeline, "spectral_peaks", lambda y, dt: (np.array([0.1, 20.0, 20.48, 22.0, 30.0, 60.0]),
+                                                                     np.array([12.0, 9.0, 8.0, 6.0, 5.9, 15.0])))
     rng = np.random.default_rng(4)
     acc = rng.standard_normal((128 * 120, 2))
     log, details = [], {}
@@ -105,6 +132,54 @@ def test_a_band_too_wide_for_one_model_is_logged(monkeypatch):
         warnings.simplefilter("ignore", modal.ModalWarning)
         _, dt_used = modal.identify_record(acc, 1 / 128, "ambient", max_order=4, log=log.append, details=details)
     assert dt_used == 2 / 128 and details["settings"]["highest_peak_hz"] == 60.0
+    line = next(entry for entry in log if entry.startswith("lowest spectral peak"))
+    assert line.endswith("decimated by 2 to 64 Hz, the highest spectral peak 60 Hz kept in the band (the lowest alone "
+                         "would decimate by 19) (set --fmax and --rows to choose)")  # 128 / (66.7 x 0.1) = 19.2
     lost = [entry for entry in log if entry.startswith("spectral peaks above the band kept")]
     assert lost == ["spectral peaks above the band kept (22, 60 Hz): more than 512 samples per period of the lowest "
                     "peak would be needed; set --fmax to identify them"]
+
+
+def noise_floor_record(seconds=600.0, fs=500.0, seed=0):
+    """Two modes (1.0 and 3.1 Hz, white forces through their filters) on four
+    channels, one of them at a node of both, with 2 % sensor noise, sampled
+    at 500 Hz: a band of noise from 5 to 250 Hz."""
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(seed)
+    dt, n = 1 / fs, int(seconds * fs)
+    responses = []
+    for f, zeta in ((1.0, 0.015), (3.1, 0.012)):
+        w = 2 * np.pi * f * dt
+        r = np.exp(-zeta * w)
+        responses.append(lfilter([1.0], [1.0, -2 * r * np.cos(w), r * r], rng.standard_normal(n)))
+    shapes = np.array([[0.0, 0.0], [0.5, 1.0], [1.0, 0.3], [0.8, -0.9]])
+    y = np.column_stack(responses) @ shapes.T
+    return y + 0.02 * rng.standard_normal(y.shape), dt
+
+
+def test_maxima_of_a_noise_floor_do_not_widen_the_band():
+    """Over a wide band of noise, the spectral estimate's random error leaves
+    maxima 6 dB above their troughs (here dozens, 5-250 Hz), each a few dB
+    above the level around it; the 1 Hz mode's peak stands far above it.
+    The band follows the mode's peak: decimated as the lowest peak alone
+    decimates (by 7 to 71 Hz, not kept at 500 Hz), both modes trusted and
+    nothing else (kept at 500 Hz, three rows at 106-226 Hz, flagged)."""
+    from modal.identification import PEAK_HEIGHT_DB
+
+    y, dt = noise_floor_record()
+    peaks, heights = _pipeline.spectral_peaks(y, dt)
+    noise = peaks > 5.0
+    assert noise.sum() >= 10 and np.all(heights[noise] < PEAK_HEIGHT_DB)
+    assert peaks[0] == pytest.approx(1.0, abs=0.02) and heights[0] >= PEAK_HEIGHT_DB
+    log, details = [], {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", modal.ModalWarning)
+        result, dt_used = modal.identify_record(y, dt, "ambient", log=log.append, details=details)
+    settings = details["settings"]
+    assert settings["decimation"] == int(1 / (dt * AUTO_SAMPLES * peaks[0])) == 7 and dt_used == 7 * dt
+    assert settings["highest_peak_hz"] == peaks[0]
+    assert not [entry for entry in log if entry.startswith("spectral peaks above the band kept")]
+    modes = result.modes
+    trusted = modes[modes["flag"].fillna("") == ""]["freq_hz"].to_numpy()
+    assert np.sort(trusted) == pytest.approx([1.0, 3.1], rel=0.01)

@@ -465,7 +465,8 @@ def test_settings_from_the_lowest_peak(monkeypatch, low, max_order, lines, dt_fa
     2 x 10 / 2 = 10 rows), the record decimated to about AUTO_SAMPLES
     samples per period; the choice is logged and in the settings (the peak,
     the decimation, the rows)."""
-    monkeypatch.setattr(_pipeline, "prominent_peaks_hz", lambda y, dt: np.array([] if low is None else [low]))
+    monkeypatch.setattr(_pipeline, "spectral_peaks",
+                        lambda y, dt: (np.array([] if low is None else [low]), np.array([] if low is None else [20.0])))
     acc, dt = ambient_record()
     log, details = [], {}
     import warnings
@@ -488,7 +489,7 @@ def test_a_free_decay_keeps_three_periods_and_sixty_rows(monkeypatch, max_order,
     """A free decay's rows span DECAY_PERIODS periods of the lowest peak and
     at least 60 and ``2 max_order / channels`` (the ambient rule was
     measured on ambient records only); at 8 Hz, 3 periods would be 9 rows: 60."""
-    monkeypatch.setattr(_pipeline, "prominent_peaks_hz", lambda y, dt: np.array([3.0 if line else 8.0 / 3]))
+    monkeypatch.setattr(_pipeline, "spectral_peaks", lambda y, dt: (np.array([3.0 if line else 8.0 / 3]), np.array([20.0])))
     acc, dt = ambient_record()
     acc = acc * np.exp(-np.arange(len(acc)) * dt / 20)[:, None]
     if line is None:

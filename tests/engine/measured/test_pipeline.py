@@ -699,7 +699,7 @@ def test_the_default_decimation_filters_own_pole_is_flagged_not_trusted(monkeypa
     from modal.measured import _pipeline
     from modal.measured._pipeline import with_filter_check
 
-    monkeypatch.setattr(_pipeline, "prominent_peaks_hz", lambda y, dt: np.array([1.0]))
+    monkeypatch.setattr(_pipeline, "spectral_peaks", lambda y, dt: (np.array([1.0]), np.array([20.0])))
     acc, dt = _modes_near_nyquist()
     result, dt_used = modal.identify_record(acc, dt, "ambient")
     assert dt_used == pytest.approx(5 * dt)
