@@ -12,8 +12,8 @@ from ._cera import cera
 from ._envelope import envelope_variation, steady
 from ._era import era
 from ._era_kernels import decompose
-from ._fdd import (PEAK_HEIGHT_DB, PEAK_PROMINENCE_DB, SHARED_PEAK, SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac, efdd, fdd,
-                   height_above_median_db, own_shapes, shared_peaks, spectral_support)
+from ._fdd import (PEAK_HEIGHT_DB, PEAK_PROMINENCE_DB, SHARED_PEAK, SHARED_PEAK_MAC, SingularValueSpectrum, auto_mac,
+                   efdd, fdd, height_above_median_db, own_shapes, shared_peaks, spectral_support)
 from ._figures import stabilisation_figure
 from ._hankel import hankel
 from ._indicators import align_shapes, mac, modal_amplitude_coherence, modal_phase_collinearity, quadrature_groups
@@ -29,7 +29,8 @@ from ._tcm import tcm
 # blends are importable from here for the other subpackages (a channel table checks its quantities
 # against QUANTITIES; a campaign averages shapes by the identification's scaling; the witness of a
 # record names modes on one peak, leaves the selection's same-shape pairs alone and names blends of
-# two modes; a record's band keeps the peaks that stand above their floor); the names below are also re-exported by modal.
+# two modes; a record's band keeps the peaks that stand above their floor); the names below are also
+# re-exported by modal.
 __all__ = [
     "FLAGS", "ModalResult", "ModalWarning", "SingularValueSpectrum", "Stabilisation", "StabilityCriteria",
     "align_shapes", "auto_mac", "cera", "decompose", "efdd", "era", "fdd", "hankel", "mac",

@@ -12,7 +12,8 @@ import numpy as np
 import pandas as pd
 
 from .._checks import positive_float, unit_scale
-from ..identification import BLEND, PEAK_HEIGHT_DB, ModalWarning, Stabilisation, StabilityCriteria, stabilisation
+from ..identification import (BLEND, PEAK_HEIGHT_DB, ModalWarning, Stabilisation, StabilityCriteria,
+                              height_above_median_db, stabilisation)
 from ..records import SPIKE_MAX_WIDTH, clipping_warnings, despiked, spike_samples, spike_warnings
 from ._options import IdentifyOptions, identify_options, least_rows
 
@@ -106,8 +107,6 @@ def spectral_peaks(y, dt, prominence_db=6.0) -> tuple[np.ndarray, np.ndarray]:
     """
     from scipy.signal import find_peaks, welch
 
-    from ..identification import height_above_median_db
-
     n = y.shape[0]
     if n < 64:
         return np.empty(0), np.empty(0)
@@ -121,7 +120,7 @@ def spectral_peaks(y, dt, prominence_db=6.0) -> tuple[np.ndarray, np.ndarray]:
     floor = max(LOWEST_PEAK_BINS * freqs[1], 10 / (n * dt))
     peaks = peaks[freqs[peaks] > floor]
     heights = np.array([height_above_median_db(db, index, freqs[index], freqs[1]) for index in peaks])
-    return freqs[peaks], heights.reshape(len(peaks))
+    return freqs[peaks], heights
 
 
 def lowest_peak_hz(y, dt, prominence_db=6.0) -> float | None:
